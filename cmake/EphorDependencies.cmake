@@ -1,0 +1,17 @@
+# Every third-party dependency is a Debian package (see tools/ephor setup).
+find_package(PkgConfig REQUIRED)
+# LCM 1.3.1 ships no CMake config; pkg-config needs libglib2.0-dev.
+pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
+find_program(LCM_GEN lcm-gen REQUIRED)
+find_package(Threads REQUIRED)
+find_package(Protobuf REQUIRED)
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(spdlog REQUIRED)
+find_package(GTest REQUIRED)
+find_package(benchmark REQUIRED)
+find_package(OpenCV 4 QUIET COMPONENTS core imgproc imgcodecs videoio calib3d)
+find_package(box2d QUIET)
+find_package(orocos_kdl QUIET)
+find_package(ompl QUIET)
+find_package(nlohmann_json QUIET)
+find_package(Java QUIET COMPONENTS Development)

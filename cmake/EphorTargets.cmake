@@ -1,0 +1,85 @@
+# Helpers that give every target of ours the same warnings and sanitizer
+# settings. Third-party headers are included as SYSTEM so -Werror applies to
+# our code only.
+
+function(ephor_target_defaults target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+    -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual
+    -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough
+    # GCC 12 reports false positives from libstdc++ internals at -O3 (GCC bugs 105329, 105651).
+    -Wno-restrict -Wno-stringop-overflow -Wno-array-bounds)
+  if(EPHOR_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(EPHOR_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# ephor_library(NAME SOURCES a.cc b.cc DEPS dep1 dep2)
+# A static library of pure code; its include root is the repository root, so
+# headers are included as "procs/vision/blobifier.h" or "common/lcm/bus.h".
+function(ephor_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC ${CMAKE_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  ephor_target_defaults(${name})
+endfunction()
+
+# ephor_executable(NAME SOURCES main.cc DEPS lib)
+function(ephor_executable name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${CMAKE_SOURCE_DIR})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS})
+  ephor_target_defaults(${name})
+endfunction()
+
+# ephor_test(NAME SOURCES x_test.cc DEPS lib [NETNS] [LABELS l] [TIMEOUT s])
+# A GoogleTest binary registered with CTest. NETNS runs it inside a private
+# network namespace (tools/netns-run) so multicast stays on this test.
+function(ephor_test name)
+  cmake_parse_arguments(ARG "NETNS" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_include_directories(${name} PRIVATE ${CMAKE_SOURCE_DIR})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  ephor_target_defaults(${name})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  if(ARG_NETNS)
+    add_test(NAME ${name} COMMAND ${CMAKE_SOURCE_DIR}/tools/netns-run $<TARGET_FILE:${name}>)
+    set(labels integration ${ARG_LABELS})
+  else()
+    add_test(NAME ${name} COMMAND ${name})
+    set(labels unit ${ARG_LABELS})
+  endif()
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 300)
+  endif()
+  set_tests_properties(${name} PROPERTIES LABELS "${labels}" TIMEOUT ${ARG_TIMEOUT}
+    ENVIRONMENT "EPHOR_BIN_DIR=${CMAKE_BINARY_DIR}/bin;EPHOR_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+endfunction()
+
+# ephor_proto_library(NAME PROTOS common/config/x.proto ...)
+# Generates C++ with protoc, rooted at the repository root so that
+# "common/config/x.proto" becomes "common/config/x.pb.h" in the build tree.
+function(ephor_proto_library name)
+  cmake_parse_arguments(ARG "" "" "PROTOS" ${ARGN})
+  set(srcs "")
+  foreach(proto ${ARG_PROTOS})
+    string(REGEX REPLACE "\\.proto$" "" stem ${proto})
+    set(out_cc ${CMAKE_BINARY_DIR}/${stem}.pb.cc)
+    set(out_h ${CMAKE_BINARY_DIR}/${stem}.pb.h)
+    add_custom_command(
+      OUTPUT ${out_cc} ${out_h}
+      COMMAND protobuf::protoc --cpp_out=${CMAKE_BINARY_DIR} -I${CMAKE_SOURCE_DIR} ${CMAKE_SOURCE_DIR}/${proto}
+      DEPENDS ${CMAKE_SOURCE_DIR}/${proto}
+      COMMENT "protoc ${proto}"
+      VERBATIM)
+    list(APPEND srcs ${out_cc})
+  endforeach()
+  add_library(${name} STATIC ${srcs})
+  target_include_directories(${name} SYSTEM PUBLIC ${CMAKE_BINARY_DIR})
+  target_link_libraries(${name} PUBLIC protobuf::libprotobuf)
+endfunction()

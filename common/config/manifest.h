@@ -1,0 +1,28 @@
+#pragma once
+// The deployment manifest (manifest.proto): loading, validation and defaults.
+
+#include <string>
+#include <vector>
+
+#include "common/config/manifest.pb.h"
+
+namespace ephor {
+
+// Parses and validates `path`; fills defaults (LCM group/port/buffer,
+// scheduler settings, host "local" when none is named, each process's host).
+// Throws ConfigError naming the file, the line and the field.
+config::Manifest load_manifest(const std::string& path);
+// Same, from text (for tests); `name` stands for the file in messages.
+config::Manifest parse_manifest(const std::string& text, const std::string& name);
+
+// The LCM URL the manifest asks for, e.g.
+// "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216".
+std::string manifest_lcm_url(const config::Manifest& manifest);
+
+// Host names in manifest order.
+std::vector<std::string> manifest_hosts(const config::Manifest& manifest);
+
+// -1 for "auto" / "", else the CPU index (validated on load).
+int task_cpu(const config::Task& task);
+
+}  // namespace ephor

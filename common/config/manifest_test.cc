@@ -1,0 +1,102 @@
+#include "common/config/manifest.h"
+
+#include <gtest/gtest.h>
+
+#include "common/config/text_proto.h"
+
+namespace ephor {
+namespace {
+
+constexpr const char* kGood = R"pb(
+name: "small"
+lcm { port: 7700 }
+host { name: "planning" }
+host { name: "arm" }
+process {
+  name: "vision"
+  host: "planning"
+  exec: "ephor-testtask"
+  task { name: "blobify" kind: PERIODIC period_ms: 50 cpu: "1" }
+}
+process {
+  name: "arm"
+  host: "arm"
+  exec: "ephor-testtask"
+  task { name: "move" kind: TRIGGERED deadline_ms: 200 }
+}
+)pb";
+
+// Parses `text` and returns the ConfigError message ("" when it loads).
+std::string error_of(const std::string& text) {
+  try {
+    parse_manifest(text, "bad.pbtxt");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Manifest, GoodFileLoadsWithDefaults) {
+  const auto m = parse_manifest(kGood, "good.pbtxt");
+  EXPECT_EQ(m.name(), "small");
+  EXPECT_EQ(manifest_lcm_url(m), "udpm://239.255.76.67:7700?ttl=0&recv_buf_size=16777216");
+  ASSERT_EQ(m.process_size(), 2);
+  const auto& blobify = m.process(0).task(0);
+  EXPECT_EQ(blobify.deadline_ms(), 50.0);  // defaults to the period
+  EXPECT_EQ(blobify.policy(), config::Task::FIFO);
+  EXPECT_EQ(task_cpu(blobify), 1);
+  EXPECT_EQ(task_cpu(m.process(1).task(0)), -1);  // "auto"
+  EXPECT_EQ(m.scheduler().estimate_window(), 3u);
+  EXPECT_TRUE(m.scheduler().migrate());
+}
+
+TEST(Manifest, NoHostsMeansOneLocalHost) {
+  const auto m = parse_manifest(R"pb(name: "x" process { name: "a" exec: "b" })pb", "x");
+  ASSERT_EQ(manifest_hosts(m), std::vector<std::string>{"local"});
+  EXPECT_EQ(m.process(0).host(), "local");
+}
+
+TEST(Manifest, SyntaxErrorNamesFileLineAndColumn) {
+  const std::string err = error_of("name: \"x\"\nprocess {\n  name: \"a\"\n  exec \"b\"\n}\n");
+  EXPECT_NE(err.find("bad.pbtxt:4:"), std::string::npos) << err;
+}
+
+TEST(Manifest, UnknownFieldIsNamed) {
+  const std::string err = error_of("name: \"x\"\nprocess { name: \"a\" exec: \"b\" perod_ms: 3 }\n");
+  EXPECT_NE(err.find("bad.pbtxt:2:"), std::string::npos) << err;
+  EXPECT_NE(err.find("perod_ms"), std::string::npos) << err;
+}
+
+TEST(Manifest, SemanticErrorNamesLineAndFieldPath) {
+  const std::string err = error_of(
+      "name: \"x\"\n"
+      "process {\n"
+      "  name: \"a\"\n"
+      "  exec: \"b\"\n"
+      "  task { name: \"t\" kind: PERIODIC period_ms: 0 }\n"
+      "}\n");
+  EXPECT_NE(err.find("bad.pbtxt:5: process[0].task[0].period_ms"), std::string::npos) << err;
+}
+
+TEST(Manifest, RejectsBadValues) {
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: nan } })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: 1 cpu: "two" } })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: TRIGGERED } })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: 1 priority: 120 } })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" host: "nowhere" })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" } process { name: "a" exec: "c" })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" lcm { ttl: 4 })pb"), "");
+  EXPECT_NE(error_of(R"pb(process { name: "a" exec: "b" })pb"), "");
+}
+
+TEST(Manifest, MissingFileIsNamed) {
+  try {
+    load_manifest("/nonexistent/m.pbtxt");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/m.pbtxt"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace ephor

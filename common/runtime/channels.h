@@ -1,0 +1,12 @@
+#pragma once
+// LCM channel names of the task runtime and the scheduler.
+
+namespace ephor::channels {
+
+inline constexpr const char* kTaskRegister = "EPHOR_TASK_REGISTER";  // task_register_t
+inline constexpr const char* kTaskJobs = "EPHOR_TASK_JOBS";          // task_jobs_t
+inline constexpr const char* kTaskTrigger = "EPHOR_TASK_TRIGGER";    // task_trigger_t
+inline constexpr const char* kSchedAssign = "EPHOR_SCHED_ASSIGN";    // sched_assignments_t
+inline constexpr const char* kSchedStatus = "EPHOR_SCHED_STATUS";    // sched_status_t
+
+}  // namespace ephor::channels
