@@ -1,0 +1,82 @@
+// ephor-testtask: a process whose tasks only burn a given amount of CPU. Used
+// by the scheduler's integration tests and the small demo manifest to show
+// the task runtime and ephor-scheduler at work without any application.
+//
+//   ephor-testtask --task periodic:tick:10:500 --task triggered:save:2000
+//     periodic:NAME:PERIOD_MS[:EXEC_US]   released every PERIOD_MS, runs EXEC_US
+//     triggered:NAME[:EXEC_US]            released by task_trigger_t
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "common/lcm/bus.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+
+namespace {
+
+// Busy-waits for `us` microseconds of wall time (a stand-in for real work).
+void burn_us(int64_t us) {
+  const int64_t end = ephor::mono_ns() + us * 1000;
+  while (ephor::mono_ns() < end) {
+  }
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string part;
+  while (std::getline(ss, part, sep)) out.push_back(part);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ephor::block_shutdown_signals();
+  CLI::App app{"ephor-testtask: tasks that burn CPU, for scheduler tests"};
+  ephor::ProcessArgs args;
+  ephor::add_process_flags(app, args, "testtask");
+  std::vector<std::string> specs;
+  double duration_s = 0.0;
+  app.add_option("--task", specs, "periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US]")->required();
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  ephor::init_logging(args.name);
+
+  try {
+    ephor::Bus bus(args.lcm_url, args.name);
+    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    for (const std::string& spec : specs) {
+      const auto f = split(spec, ':');
+      if (f.size() >= 3 && f[0] == "periodic") {
+        const double period_ms = std::stod(f[2]);
+        const int64_t exec_us = f.size() > 3 ? std::stoll(f[3]) : 0;
+        if (!(period_ms > 0.0) || exec_us < 0) throw std::invalid_argument("bad task spec '" + spec + "'");
+        runtime.add_periodic(f[1], std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6)),
+                             [exec_us] { burn_us(exec_us); });
+      } else if (f.size() >= 2 && f[0] == "triggered") {
+        const int64_t exec_us = f.size() > 2 ? std::stoll(f[2]) : 0;
+        if (exec_us < 0) throw std::invalid_argument("bad task spec '" + spec + "'");
+        runtime.add_triggered(f[1], std::chrono::seconds(1), [exec_us] { burn_us(exec_us); });
+      } else {
+        throw std::invalid_argument("bad task spec '" + spec +
+                                    "' (want periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US])");
+      }
+    }
+    runtime.start();
+    spdlog::info("running {} task(s) on host {}", specs.size(), args.host);
+    ephor::wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
