@@ -1,0 +1,38 @@
+#pragma once
+// The simulated (and, for a real lab, measured) work cell shared by the
+// simulator, the world model and the arm: the field, the two working planes
+// and the PUMA 560's mounting.
+//
+// Field frame F: mm, origin at the field corner shown bottom-left in the
+// camera image, x along the long side (right in the image), y along the short
+// side (up in the image), z up from the table top.
+
+namespace ephor::geometry {
+
+struct Workcell {
+  double field_length_mm = 1219.0;  // x extent of the field (4 ft)
+  double field_width_mm = 914.0;    // y extent of the field (3 ft)
+
+  // Heights of the manipulator tip in F. Elevation plane: free travel above
+  // the sheep. Object plane: low enough that the tip touches sheep bodies.
+  double elevation_plane_z_mm = 200.0;
+  double object_plane_z_mm = 30.0;
+
+  // PUMA 560 base frame origin in F (the column axis on the table), mm. The
+  // arm stands on a pedestal at the field centre: the only place from which a
+  // PUMA 560 (about 0.86 m reach from the shoulder) reaches every corner of a
+  // 3 x 4 ft field. Sheep bump into the pedestal (radius below).
+  double base_x_mm = 609.5;
+  double base_y_mm = 457.0;
+  double base_z_mm = 450.0;        // height of the base frame (shoulder axis) above the table
+  double pedestal_radius_mm = 70.0;
+  double tool_length_mm = 100.0;   // flange to manipulator tip along the approach axis
+
+  bool inside_field(double x_mm, double y_mm) const {
+    return x_mm >= 0.0 && x_mm <= field_length_mm && y_mm >= 0.0 && y_mm <= field_width_mm;
+  }
+  double centre_x_mm() const { return field_length_mm / 2.0; }
+  double centre_y_mm() const { return field_width_mm / 2.0; }
+};
+
+}  // namespace ephor::geometry
