@@ -1,0 +1,188 @@
+// ephor-launch: starts a deployment manifest on this machine.
+//
+//   ephor-launch deploy/shepherd.pbtxt [--duration S] [--host NAME]
+//                [--arg PROCESS=ARG ...]
+//
+// Starts one ephor-scheduler per host named by the selected processes (first),
+// then every process of the manifest (or of --host only), prefixes their
+// output with the process name, and stops all of them (SIGTERM, then SIGKILL
+// after a grace time, newest first) on Ctrl-C, on SIGTERM or when --duration
+// has passed. Exits non-zero, naming the process, when one cannot start or
+// dies unexpectedly.
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <CLI/CLI.hpp>
+
+#include "common/config/manifest.h"
+#include "common/config/text_proto.h"
+#include "common/runtime/process_args.h"
+#include "common/time/clock.h"
+#include "procs/launcher/process_group.h"
+
+namespace {
+
+using namespace ephor;
+using namespace ephor::launcher;
+
+std::string self_dir() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : exe.parent_path().string();
+}
+
+std::string fmt_seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g s", s);
+  return buf;
+}
+
+void say(const std::string& text) {
+  std::printf("[launch] %s\n", text.c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  block_shutdown_signals();
+  CLI::App app{"ephor-launch: run a deployment manifest on this machine"};
+  std::string manifest_path;
+  double duration_s = 0.0;
+  std::string only_host;
+  std::vector<std::string> extra_args;
+  int grace_ms = 3000;
+  bool no_scheduler = false;
+  app.add_option("manifest", manifest_path, "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")->required();
+  app.add_option("--duration", duration_s, "stop everything after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
+  app.add_option("--host", only_host, "start only the processes of this host (default: all hosts, here)");
+  app.add_option("--arg", extra_args, "PROCESS=ARG: append ARG to PROCESS's command line (repeatable)");
+  app.add_option("--grace-ms", grace_ms, "time between SIGTERM and SIGKILL when stopping")->check(CLI::NonNegativeNumber);
+  app.add_flag("--no-scheduler", no_scheduler, "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
+  CLI11_PARSE(app, argc, argv);
+
+  config::Manifest manifest;
+  try {
+    manifest = load_manifest(manifest_path);
+  } catch (const ConfigError& e) {
+    std::fprintf(stderr, "[launch] bad manifest: %s\n", e.what());
+    return 2;
+  }
+
+  std::map<std::string, std::vector<std::string>> more_args;
+  for (const auto& a : extra_args) {
+    const auto eq = a.find('=');
+    bool known = false;
+    for (const auto& p : manifest.process()) known = known || (eq != std::string::npos && p.name() == a.substr(0, eq));
+    if (!known) {
+      std::fprintf(stderr, "[launch] --arg '%s': want PROCESS=ARG with a process of %s\n", a.c_str(),
+                   manifest_path.c_str());
+      return 2;
+    }
+    more_args[a.substr(0, eq)].push_back(a.substr(eq + 1));
+  }
+  if (!only_host.empty()) {
+    const auto hosts = manifest_hosts(manifest);
+    if (std::find(hosts.begin(), hosts.end(), only_host) == hosts.end()) {
+      std::fprintf(stderr, "[launch] --host %s: not a host of %s\n", only_host.c_str(), manifest_path.c_str());
+      return 2;
+    }
+  }
+
+  // The manifest's URL, unless the caller set one (tests, several systems).
+  const char* env_url = std::getenv("LCM_DEFAULT_URL");
+  const std::string url = env_url != nullptr && *env_url != '\0' ? env_url : manifest_lcm_url(manifest);
+  const std::string bin_dir = std::getenv("EPHOR_BIN_DIR") != nullptr ? std::getenv("EPHOR_BIN_DIR") : self_dir();
+  const std::string abs_manifest = std::filesystem::absolute(manifest_path).string();
+
+  std::vector<ProcessSpec> specs;
+  std::set<std::string> hosts;
+  for (const auto& p : manifest.process())
+    if (only_host.empty() || p.host() == only_host) hosts.insert(p.host());
+  auto base_env = [&](const std::string& name, const std::string& host) {
+    return std::vector<std::pair<std::string, std::string>>{{"EPHOR_LAUNCHED", "1"},
+                                                            {"EPHOR_PROCESS", name},
+                                                            {"EPHOR_HOST", host},
+                                                            {"EPHOR_MANIFEST", abs_manifest},
+                                                            {"EPHOR_BIN_DIR", bin_dir},
+                                                            {"LCM_DEFAULT_URL", url}};
+  };
+  if (!no_scheduler) {
+    for (const auto& host : hosts) {
+      const std::string name = hosts.size() == 1 ? "scheduler" : "scheduler@" + host;
+      specs.push_back({name, resolve_executable("ephor-scheduler", bin_dir),
+                       {"--manifest", abs_manifest, "--host", host}, base_env(name, host), false});
+    }
+  }
+  for (const auto& p : manifest.process()) {
+    if (!only_host.empty() && p.host() != only_host) continue;
+    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), {p.args().begin(), p.args().end()},
+                  base_env(p.name(), p.host()), p.allow_exit()};
+    for (const auto& a : more_args[p.name()]) s.args.push_back(a);
+    if (s.path.empty()) {
+      std::fprintf(stderr, "[launch] cannot start %s: executable '%s' not found in %s or $PATH (built? try: tools/ephor build)\n",
+                   p.name().c_str(), p.exec().c_str(), bin_dir.c_str());
+      return 1;
+    }
+    specs.push_back(s);
+  }
+
+  size_t width = 6;
+  for (const auto& s : specs) width = std::max(width, s.name.size());
+  ProcessGroup group([width](const std::string& name, const std::string& line) {
+    std::printf("[%-*s] %s\n", static_cast<int>(width), name.c_str(), line.c_str());
+    std::fflush(stdout);
+  });
+
+  say("manifest " + manifest.name() + ", LCM " + url);
+  int rc = 0;
+  for (const auto& s : specs) {
+    try {
+      const pid_t pid = group.start(s);
+      say("started " + s.name + " (pid " + std::to_string(pid) + "): " + s.path);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "[launch] %s\n", e.what());
+      rc = 1;
+      break;
+    }
+  }
+  if (rc == 0) {
+    say(duration_s > 0 ? "running for " + fmt_seconds(duration_s) : "running; Ctrl-C stops everything");
+    const int64_t end_ns = duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+    while (true) {
+      bool failed = false;
+      for (const auto& e : group.poll(100)) {
+        if (e.failure) {
+          std::fprintf(stderr, "[launch] process %s died unexpectedly: %s; stopping everything\n", e.name.c_str(),
+                       e.describe().c_str());
+          failed = true;
+        } else {
+          say(e.name + " finished");
+        }
+      }
+      if (failed) {
+        rc = 1;
+        break;
+      }
+      if (wait_for_shutdown_signal(0.001) != 0) {
+        say("stopping on signal");
+        break;
+      }
+      if (mono_ns() >= end_ns) {
+        say("duration reached; stopping");
+        break;
+      }
+    }
+  }
+  for (const auto& e : group.stop_all(std::chrono::milliseconds(grace_ms))) {
+    if (e.signaled && e.code == SIGKILL) say(e.name + " did not stop within the grace time: killed");
+  }
+  say(rc == 0 ? "all stopped" : "all stopped after a failure");
+  return rc;
+}
