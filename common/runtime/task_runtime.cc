@@ -52,6 +52,7 @@ struct TaskRuntime::Task {
   int32_t cpu = -1;
   std::string rt_error;
   bool stop = false;
+  bool state_changed = false;  // assignment applied since the last published batch
 };
 
 TaskRuntime::TaskRuntime(Bus& bus, RuntimeOptions options) : bus_(bus), options_(std::move(options)) {
@@ -164,7 +165,7 @@ void TaskRuntime::stop() {
   for (auto& t : tasks_)
     if (t->thread.joinable()) t->thread.join();
   if (housekeeping_.joinable()) housekeeping_.join();
-  for (auto& t : tasks_) publish_jobs(*t);
+  for (auto& t : tasks_) publish_jobs(*t, false);
 }
 
 TaskCounters TaskRuntime::counters(const std::string& task) const {
@@ -204,6 +205,7 @@ void TaskRuntime::apply_pending(Task& task) {
   task.cpu = out.affinity_ok ? row.cpu : -1;
   task.counters.rt_granted = out.policy_ok && req.policy == Policy::kFifo;
   task.rt_error = out.error;
+  task.state_changed = true;
   if (task.periodic && row.period_us > 0) task.period_ns = row.period_us * 1000;
   if (row.deadline_us > 0) task.deadline_ns = row.deadline_us * 1000;
   else if (task.periodic) task.deadline_ns = task.period_ns;
@@ -297,11 +299,14 @@ void TaskRuntime::publish_register(Task& task) {
   bus_.publish(channels::kTaskRegister, msg);
 }
 
-void TaskRuntime::publish_jobs(Task& task) {
+void TaskRuntime::publish_jobs(Task& task, bool even_if_empty) {
   task_jobs_t msg{};
   {
     std::lock_guard<std::mutex> lock(task.mutex);
-    if (task.batch.empty()) return;
+    // A batch without jobs still tells the scheduler how the task is
+    // scheduled (a triggered task may not run for a long time).
+    if (task.batch.empty() && !even_if_empty && !task.state_changed) return;
+    task.state_changed = false;
     msg.jobs.swap(task.batch);
     msg.policy = task.policy;
     msg.priority = task.priority;
@@ -327,8 +332,9 @@ void TaskRuntime::housekeeping_main() {
   std::unique_lock<std::mutex> lock(stop_mutex_);
   while (!stop_cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return stopping_; })) {
     lock.unlock();
-    for (auto& t : tasks_) publish_jobs(*t);
-    if (++tick % 10 == 0)
+    const bool each_second = ++tick % 10 == 0;
+    for (auto& t : tasks_) publish_jobs(*t, each_second);
+    if (each_second)
       for (auto& t : tasks_) publish_register(*t);
     lock.lock();
   }

@@ -80,7 +80,7 @@ class TaskRuntime {
   void task_main(Task& task);
   void housekeeping_main();
   void apply_pending(Task& task);
-  void publish_jobs(Task& task);
+  void publish_jobs(Task& task, bool even_if_empty);
   void publish_register(Task& task);
   Task* find(const std::string& name) const;
 

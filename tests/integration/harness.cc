@@ -1,0 +1,102 @@
+#include "tests/integration/harness.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <stdexcept>
+
+#include "common/time/clock.h"
+
+namespace ephor::testing {
+
+bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+  const int64_t deadline = mono_ns() + static_cast<int64_t>(timeout.count()) * 1'000'000;
+  while (true) {
+    if (pred()) return true;
+    if (mono_ns() >= deadline) return pred();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+std::string bin(const std::string& name) {
+  const char* dir = std::getenv("EPHOR_BIN_DIR");
+  if (dir == nullptr) throw std::runtime_error("EPHOR_BIN_DIR is not set (run the test through ctest)");
+  return std::string(dir) + "/" + name;
+}
+
+std::string source_path(const std::string& relative) {
+  const char* dir = std::getenv("EPHOR_SOURCE_DIR");
+  if (dir == nullptr) throw std::runtime_error("EPHOR_SOURCE_DIR is not set (run the test through ctest)");
+  return std::string(dir) + "/" + relative;
+}
+
+std::string write_temp_file(const std::string& name, const std::string& text) {
+  static std::string dir = [] {
+    char tmpl[] = "/tmp/ephor-test-XXXXXX";
+    const char* d = mkdtemp(tmpl);
+    if (d == nullptr) throw std::runtime_error("mkdtemp failed");
+    return std::string(d);
+  }();
+  const std::string path = dir + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+Processes::Processes() {
+  group_ = std::make_unique<launcher::ProcessGroup>([this](const std::string& name, const std::string& line) {
+    // Called from poller_ with mutex_ held.
+    lines_[name].push_back(line);
+    std::fprintf(stderr, "[%s] %s\n", name.c_str(), line.c_str());
+  });
+  poller_ = std::thread([this] {
+    while (true) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!running_) break;
+        auto e = group_->poll(0);
+        exits_.insert(exits_.end(), e.begin(), e.end());
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+}
+
+Processes::~Processes() { stop_all(); }
+
+void Processes::start(const std::string& name, const std::string& exec, const std::vector<std::string>& args,
+                      const std::vector<std::pair<std::string, std::string>>& env) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  group_->start({name, exec, args, env, false});
+}
+
+std::vector<std::string> Processes::lines(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = lines_.find(name);
+  return it == lines_.end() ? std::vector<std::string>{} : it->second;
+}
+
+bool Processes::has_line(const std::string& name, const std::string& text) const {
+  for (const auto& l : lines(name))
+    if (l.find(text) != std::string::npos) return true;
+  return false;
+}
+
+std::vector<launcher::ExitInfo> Processes::exits() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return exits_;
+}
+
+void Processes::stop_all() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!running_) return;
+    running_ = false;
+  }
+  if (poller_.joinable()) poller_.join();
+  std::lock_guard<std::mutex> lock(mutex_);
+  group_->stop_all(std::chrono::milliseconds(3000));
+}
+
+}  // namespace ephor::testing

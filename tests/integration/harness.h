@@ -1,0 +1,55 @@
+#pragma once
+// Helpers for multi-process integration tests: start real ephor processes,
+// watch their output, listen on LCM, and wait on conditions with timeouts
+// (never on bare sleeps).
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "procs/launcher/process_group.h"
+
+namespace ephor::testing {
+
+// Polls `pred` until it is true or `timeout` passes; returns its last value.
+bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout);
+
+// Path of an ephor binary (from EPHOR_BIN_DIR, set by CTest).
+std::string bin(const std::string& name);
+// Path of a file in the source tree (from EPHOR_SOURCE_DIR, set by CTest).
+std::string source_path(const std::string& relative);
+
+// Writes `text` to a new file in a private temporary directory; returns its path.
+std::string write_temp_file(const std::string& name, const std::string& text);
+
+// Child processes with their output kept for assertions. Stops them all on
+// destruction.
+class Processes {
+ public:
+  Processes();
+  ~Processes();
+  // Starts `exec` (a path) as `name`; env entries are added to ours.
+  void start(const std::string& name, const std::string& exec, const std::vector<std::string>& args,
+             const std::vector<std::pair<std::string, std::string>>& env = {});
+  std::vector<std::string> lines(const std::string& name) const;
+  // True when some line of `name` contains `text`.
+  bool has_line(const std::string& name, const std::string& text) const;
+  // Exits observed so far.
+  std::vector<launcher::ExitInfo> exits() const;
+  void stop_all();
+
+ private:
+  mutable std::mutex mutex_;
+  std::unique_ptr<launcher::ProcessGroup> group_;
+  std::map<std::string, std::vector<std::string>> lines_;
+  std::vector<launcher::ExitInfo> exits_;
+  bool running_ = true;
+  std::thread poller_;
+};
+
+}  // namespace ephor::testing
