@@ -169,6 +169,18 @@ double FieldCalibration::plane_z_mm(Plane plane) const {
   return plane == Plane::kObject ? planes_.object_plane_z_mm : planes_.elevation_plane_z_mm;
 }
 
+AffineMap FieldCalibration::matrix_at_height(double z_mm) const {
+  const double span = planes_.elevation_plane_z_mm - planes_.object_plane_z_mm;
+  if (!(std::abs(span) > 1e-9) || !std::isfinite(z_mm)) return object_;
+  const double w = (z_mm - planes_.object_plane_z_mm) / span;
+  return object_ + w * (elevation_ - object_);
+}
+
+Eigen::Vector2d FieldCalibration::image_to_field_at_height(double u_px, double v_px,
+                                                           double z_mm) const {
+  return matrix_at_height(z_mm) * Eigen::Vector3d(u_px, v_px, 1.0);
+}
+
 Eigen::Vector2d FieldCalibration::image_to_field(double u_px, double v_px, Plane plane) const {
   return matrix(plane) * Eigen::Vector3d(u_px, v_px, 1.0);
 }

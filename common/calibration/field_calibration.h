@@ -59,6 +59,13 @@ class FieldCalibration {
   // linear part only.
   Eigen::Vector2d image_vector_to_field(const Eigen::Vector2d& d_px, Plane plane) const;
 
+  // The map for a plane at height z_mm (e.g. the sheep's marks), interpolated
+  // (extrapolated) linearly between the two calibrated planes. Exact for a
+  // camera looking straight down: its mm-per-px scale and offset are both
+  // linear in (camera height - z).
+  AffineMap matrix_at_height(double z_mm) const;
+  Eigen::Vector2d image_to_field_at_height(double u_px, double v_px, double z_mm) const;
+
   const AffineMap& matrix(Plane plane) const;
   double plane_z_mm(Plane plane) const;
   const PlaneSetup& planes() const { return planes_; }

@@ -218,5 +218,17 @@ TEST(SimCalibrationTest, DeployedFileAgreesWithTheSimCameraOverTheField) {
   EXPECT_LT(worst_mm, 0.5);
 }
 
+TEST(SimCalibrationTest, InterpolatedPlaneFitsTheSheepMarkHeight) {
+  const auto cal = FieldCalibration::from_camera({}, {});
+  const geometry::OverheadCamera cam;
+  const double z = 52.0;  // the simulator's mark height, between the two planes
+  for (double x : {0.0, 600.0, 1219.0})
+    for (double y : {0.0, 914.0}) {
+      const Eigen::Vector2d p = cam.project(x, y, z);
+      EXPECT_LT((cal.image_to_field_at_height(p.x(), p.y(), z) - Eigen::Vector2d(x, y)).norm(),
+                1e-6);
+    }
+}
+
 }  // namespace
 }  // namespace ephor::calibration
