@@ -1,0 +1,133 @@
+#pragma once
+// Plain structs the shepherd's planners take and return. No LCM here: the
+// thin main (main.cc) converts objects_t / arm_state_t / motion_done_t to
+// these and Goal to arm_goal_t.
+//
+// Frame: field frame F (common/geometry/workcell.h): mm, origin at the field
+// corner shown bottom-left in the image, x along the long side, y along the
+// short side. Velocities in mm/s, times in s, angles in rad from +x towards +y.
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "common/geometry/workcell.h"
+
+namespace ephor::planner {
+
+enum class SheepState { kVisible, kObscured, kDead };
+
+// One tracked sheep as the world model reports it (object_t).
+struct Sheep {
+  int id = -1;
+  double x_mm = 0.0;  // centre of the sheep's mark, F
+  double y_mm = 0.0;
+  double vx_mm_s = 0.0;  // filtered velocity, F
+  double vy_mm_s = 0.0;
+  SheepState state = SheepState::kVisible;
+};
+
+// What the planner assumes about the arm: where its tool tip is now and how
+// fast it moves. The paper's planner "has access to the arm speed constant
+// allowing it to estimate how long a requested move will take" (section 5).
+struct ArmModel {
+  double x_mm = 0.0;  // tool tip in F
+  double y_mm = 0.0;
+  bool lowered = false;       // true when the tip is in (or near) the object plane
+  double speed_mm_s = 300.0;  // end-effector speed cap
+  // Elevation plane (z = 200 mm) to object plane (z = 30 mm): 170 mm at
+  // 300 mm/s is 0.57 s, rounded up for acceleration.
+  double lowering_time_s = 0.7;
+  double raise_time_s = 0.7;
+  // Per goal: planner -> comm -> arm round trip, acceleration and settling.
+  // The paper's arm was "sometimes in error": this is the allowance for it.
+  double overhead_s = 0.25;
+};
+
+enum class Plane { kElevation, kObject };
+
+// One arm goal, in F. The main converts (x, y) and theta to image
+// coordinates with the calibration of `plane`.
+struct Goal {
+  int64_t goal_id = 0;  // increasing per planner instance
+  Plane plane = Plane::kElevation;
+  double x_mm = 0.0;
+  double y_mm = 0.0;
+  double theta_rad = 0.0;  // manipulator orientation in F (faces the field centre when saving)
+  int target = -1;         // sheep id served, -1 = none (parking, raising with no target)
+};
+
+// Everything one planning job looks at: the newest objects and arm state.
+struct Scene {
+  double now_s = 0.0;  // monotonic time of this job, s (goal timeouts)
+  std::vector<Sheep> sheep;
+  ArmModel arm;
+};
+
+// Tunables shared by all planners. Defaults fit the simulated work cell
+// (30 mm/s sheep, 229 x 89 mm bodies, 300 mm/s arm).
+struct PlannerConfig {
+  geometry::Workcell workcell;
+  // An intercept (tool point and sheep centre) must lie this far inside the
+  // field edge; a sheep is counted as escaped when its centre crosses it.
+  double field_margin_mm = 25.0;
+  // The tool is placed this far ahead of the sheep's centre along its path,
+  // i.e. just behind its nose (half body length 114.5 mm): early, the sheep
+  // walks into the lowered tool; late, the tool still lands on its body.
+  double sheep_lead_mm = 80.0;
+  double sheep_half_length_mm = 114.5;
+  double sheep_half_width_mm = 44.5;
+  // Another sheep whose predicted centre comes this close to an intercept
+  // around the intercept time makes the intercept unusable (paper step 2).
+  double clearance_mm = 160.0;
+  // A sheep whose velocity points within this angle of the field centre is
+  // "already headed toward the center" and does not need saving.
+  double heading_to_centre_rad = 0.5;
+  // Slower sheep are treated as stationary (never leave).
+  double min_sheep_speed_mm_s = 3.0;
+  // Only sheep that leave within this time need saving "yet" (paper step 1).
+  double save_horizon_s = std::numeric_limits<double>::infinity();
+  // The PUMA's pedestal: the tool cannot work within this radius of the
+  // field centre (the pedestal itself is 70 mm, plus the wrist).
+  double pedestal_keepout_mm = 120.0;
+  // Where the arm waits when no sheep needs saving: the lower-right corner
+  // of the image (x max, y min in F), pulled in so the PUMA reaches it.
+  double park_x_mm = 1219.0 - 60.0;
+  double park_y_mm = 60.0;
+  // After reaching the intercept, a re-planned intercept farther than this
+  // from the tool means another elevation move instead of lowering.
+  double correction_tolerance_mm = 40.0;
+  // While lowered: the sheep's path passing farther than this from the tool
+  // triggers a correction in the object plane.
+  double lateral_tolerance_mm = 30.0;
+  int max_corrections = 3;
+  // How long the lowered tool waits for the sheep at most, s.
+  double max_turn_wait_s = 30.0;
+  // A goal without motion_done after factor * expected duration + slack is
+  // treated as failed (comm already retries; this guards against loss).
+  double goal_timeout_factor = 2.0;
+  double goal_timeout_slack_s = 2.0;
+  // Look-ahead planner: saves searched ahead, candidates considered, budget.
+  int lookahead_depth = 3;
+  int lookahead_max_candidates = 8;
+  double lookahead_budget_s = 0.005;
+};
+
+// What a planner is doing, for planner_status_t and the display.
+struct PlannerStatus {
+  std::string phase = "idle";  // idle, choosing, moving, verifying, lowering, turning, raising,
+                               // parking, parked, holding
+  int target = -1;
+  double intercept_x_mm = 0.0;
+  double intercept_y_mm = 0.0;
+  double intercept_time_s = 0.0;  // from the job's time until the sheep reaches the intercept
+  int num_candidates = 0;         // sheep needing saving this job
+  int64_t goal_id = 0;            // newest goal sent
+  int64_t goals_failed = 0;       // motion_done failures and timeouts
+  int64_t goals_timed_out = 0;
+  int64_t saves = 0;      // targets seen turned toward the centre while lowered
+  int64_t bad_sheep = 0;  // sheep ignored for non-finite values
+};
+
+}  // namespace ephor::planner

@@ -1,0 +1,327 @@
+#include "procs/planner/save_cycle_planner.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ephor::planner {
+
+namespace {
+
+// The sheep's path relative to a point: distance ahead of the sheep's centre
+// along its heading and signed distance to the left of it, mm.
+struct PathOffset {
+  double along_mm = 0.0;
+  double lateral_mm = 0.0;
+  double speed_mm_s = 0.0;
+};
+
+PathOffset offset_from_path(const Sheep& s, double x_mm, double y_mm) {
+  PathOffset out;
+  out.speed_mm_s = std::hypot(s.vx_mm_s, s.vy_mm_s);
+  const double dx = x_mm - s.x_mm;
+  const double dy = y_mm - s.y_mm;
+  if (out.speed_mm_s < 1e-9) {
+    out.along_mm = 0.0;
+    out.lateral_mm = std::hypot(dx, dy);
+    return out;
+  }
+  const double ux = s.vx_mm_s / out.speed_mm_s;
+  const double uy = s.vy_mm_s / out.speed_mm_s;
+  out.along_mm = dx * ux + dy * uy;
+  out.lateral_mm = ux * dy - uy * dx;
+  return out;
+}
+
+}  // namespace
+
+SaveCyclePlanner::SaveCyclePlanner(const PlannerConfig& config) : rules_(config) {}
+
+const char* SaveCyclePlanner::phase_name(Phase phase) {
+  switch (phase) {
+    case Phase::kChoosing:
+      return "choosing";
+    case Phase::kMoving:
+      return "moving";
+    case Phase::kVerifying:
+      return "verifying";
+    case Phase::kLowering:
+      return "lowering";
+    case Phase::kTurning:
+      return "turning";
+    case Phase::kCorrecting:
+      return "correcting";
+    case Phase::kRaising:
+      return "raising";
+    case Phase::kParking:
+      return "parking";
+    case Phase::kParked:
+      return "parked";
+    case Phase::kHolding:
+      return "holding";
+  }
+  return "unknown";
+}
+
+void SaveCyclePlanner::set_phase(Phase phase) {
+  phase_ = phase;
+  status_.phase = phase_name(phase);
+}
+
+double SaveCyclePlanner::lowering_delay_s(const ArmModel& arm) const {
+  // Two goals (the move, then the lowering) each pay the overhead.
+  return arm.lowering_time_s + 2.0 * arm.overhead_s;
+}
+
+bool SaveCyclePlanner::on_motion_done(int64_t goal_id, bool succeeded) {
+  if (!outstanding_ || outstanding_->goal.goal_id != goal_id) return false;
+  outstanding_.reset();
+  last_result_ = succeeded;
+  if (!succeeded) ++status_.goals_failed;
+  return true;
+}
+
+std::optional<Goal> SaveCyclePlanner::plan(const Scene& raw) {
+  if (!std::isfinite(raw.now_s) || !std::isfinite(raw.arm.x_mm) || !std::isfinite(raw.arm.y_mm) ||
+      !(raw.arm.speed_mm_s > 0.0)) {
+    return std::nullopt;  // nothing sensible to plan from; the main logs it
+  }
+  Scene scene;
+  scene.now_s = raw.now_s;
+  scene.arm = raw.arm;
+  scene.sheep.reserve(raw.sheep.size());
+  for (const Sheep& s : raw.sheep) {
+    if (finite_sheep(s)) {
+      scene.sheep.push_back(s);
+    } else {
+      ++status_.bad_sheep;
+    }
+  }
+  if (outstanding_) {
+    if (scene.now_s <= outstanding_->deadline_s) {
+      status_.intercept_time_s = std::max(0.0, intercept_.t_s);
+      return std::nullopt;  // keep waiting for motion_done; never more than one goal out
+    }
+    // No motion_done in time: treat as failed and replan from here.
+    outstanding_.reset();
+    ++status_.goals_failed;
+    ++status_.goals_timed_out;
+    last_result_ = false;
+  }
+  return step(scene);
+}
+
+std::optional<Goal> SaveCyclePlanner::step(const Scene& scene) {
+  if (last_result_) {
+    const bool done = *last_result_;
+    last_result_.reset();
+    switch (phase_) {
+      case Phase::kMoving:
+        set_phase(done ? Phase::kVerifying : Phase::kChoosing);
+        break;
+      case Phase::kLowering:
+      case Phase::kCorrecting:
+        if (!done) return raise(scene);  // the tool may be down: get it out of the way first
+        if (phase_ == Phase::kLowering) turn_deadline_s_ = -1.0;  // computed on the next look
+        set_phase(Phase::kTurning);
+        break;
+      case Phase::kRaising:
+        if (!done && ++raise_failures_ < 2) return raise(scene);
+        raise_failures_ = 0;
+        set_phase(Phase::kChoosing);
+        if (done && target_saved_ && parks_after_save()) {
+          target_saved_ = false;
+          target_ = -1;
+          return send(scene, Plane::kElevation, config().park_x_mm, config().park_y_mm,
+                      std::atan2(rules_.centre_y_mm() - config().park_y_mm,
+                                 rules_.centre_x_mm() - config().park_x_mm),
+                      -1, Phase::kParking);
+        }
+        break;
+      case Phase::kParking:
+        set_phase(done ? Phase::kParked : Phase::kChoosing);
+        break;
+      default:
+        set_phase(Phase::kChoosing);
+        break;
+    }
+  }
+  switch (phase_) {
+    case Phase::kVerifying:
+      return verify(scene);
+    case Phase::kTurning:
+      return watch_turn(scene);
+    default:
+      return start_over(scene);
+  }
+}
+
+const Sheep* SaveCyclePlanner::find_target(const Scene& scene) const {
+  for (const Sheep& s : scene.sheep) {
+    if (s.id == target_ && s.state != SheepState::kDead) return &s;
+  }
+  return nullptr;
+}
+
+std::optional<Goal> SaveCyclePlanner::start_over(const Scene& scene) {
+  target_ = -1;
+  corrections_ = 0;
+  target_saved_ = false;
+  if (scene.arm.lowered) return raise(scene);
+  int candidates = 0;
+  const auto chosen = choose(scene, &candidates);
+  status_.num_candidates = candidates;
+  if (chosen) {
+    target_ = chosen->target;
+    intercept_ = chosen->intercept;
+    status_.target = target_;
+    status_.intercept_x_mm = intercept_.x_mm;
+    status_.intercept_y_mm = intercept_.y_mm;
+    status_.intercept_time_s = intercept_.t_s;
+    return send(scene, Plane::kElevation, intercept_.x_mm, intercept_.y_mm, intercept_.theta_rad,
+                target_, Phase::kMoving);
+  }
+  status_.target = -1;
+  if (candidates > 0) {
+    set_phase(Phase::kHolding);  // sheep need saving but no intercept is usable now
+    return std::nullopt;
+  }
+  // Nobody needs saving: keep the arm out of the camera's way.
+  const double px = config().park_x_mm;
+  const double py = config().park_y_mm;
+  if (std::hypot(scene.arm.x_mm - px, scene.arm.y_mm - py) <= 15.0) {
+    set_phase(Phase::kParked);
+    return std::nullopt;
+  }
+  return send(scene, Plane::kElevation, px, py,
+              std::atan2(rules_.centre_y_mm() - py, rules_.centre_x_mm() - px), -1,
+              Phase::kParking);
+}
+
+std::optional<Intercept> SaveCyclePlanner::replan_at_intercept(const Scene& scene,
+                                                               const Sheep& target) {
+  return InterceptSolver::solve(scene.arm, target, config().sheep_lead_mm,
+                                scene.arm.lowering_time_s + scene.arm.overhead_s,
+                                rules_.centre_x_mm(), rules_.centre_y_mm());
+}
+
+std::optional<Goal> SaveCyclePlanner::verify(const Scene& scene) {
+  const Sheep* target = find_target(scene);
+  if (target == nullptr || rules_.heading_to_centre(*target)) return start_over(scene);
+  const double delay = scene.arm.lowering_time_s + scene.arm.overhead_s;
+  std::optional<Intercept> lower_at;
+  // The arm got there early and the sheep will walk under it: lower here,
+  // shifted onto the sheep's path.
+  const PathOffset off = offset_from_path(*target, scene.arm.x_mm, scene.arm.y_mm);
+  if (off.speed_mm_s >= config().min_sheep_speed_mm_s &&
+      std::abs(off.lateral_mm) <= config().correction_tolerance_mm &&
+      off.along_mm - off.speed_mm_s * delay >=
+          config().sheep_lead_mm - config().sheep_half_length_mm) {
+    Intercept ic;
+    const double ux = target->vx_mm_s / off.speed_mm_s;
+    const double uy = target->vy_mm_s / off.speed_mm_s;
+    ic.x_mm = target->x_mm + off.along_mm * ux;
+    ic.y_mm = target->y_mm + off.along_mm * uy;
+    ic.t_s = std::max(delay, (off.along_mm - config().sheep_lead_mm) / off.speed_mm_s);
+    ic.sheep_x_mm = target->x_mm + target->vx_mm_s * ic.t_s;
+    ic.sheep_y_mm = target->y_mm + target->vy_mm_s * ic.t_s;
+    ic.theta_rad = std::atan2(rules_.centre_y_mm() - ic.y_mm, rules_.centre_x_mm() - ic.x_mm);
+    if (rules_.usable_point(ic.x_mm, ic.y_mm)) lower_at = ic;
+  }
+  if (!lower_at) {
+    // The arm was slower (or the sheep turned a little): re-plan from here.
+    const auto ic = replan_at_intercept(scene, *target);
+    if (!ic || !rules_.intercept_in_field(*ic, *target)) return start_over(scene);
+    if (std::hypot(ic->x_mm - scene.arm.x_mm, ic->y_mm - scene.arm.y_mm) >
+        config().correction_tolerance_mm) {
+      if (corrections_ >= config().max_corrections) return start_over(scene);
+      ++corrections_;
+      intercept_ = *ic;
+      status_.intercept_x_mm = ic->x_mm;
+      status_.intercept_y_mm = ic->y_mm;
+      status_.intercept_time_s = ic->t_s;
+      return send(scene, Plane::kElevation, ic->x_mm, ic->y_mm, ic->theta_rad, target_,
+                  Phase::kMoving);
+    }
+    lower_at = ic;
+  }
+  // Step 3's re-check: no other sheep under the arm while it is down.
+  if (checks_other_sheep() &&
+      rules_.other_sheep_near(scene.sheep, target_, lower_at->x_mm, lower_at->y_mm, 0.0,
+                              lower_at->t_s + scene.arm.raise_time_s) >= 0) {
+    return start_over(scene);
+  }
+  intercept_ = *lower_at;
+  status_.intercept_x_mm = lower_at->x_mm;
+  status_.intercept_y_mm = lower_at->y_mm;
+  status_.intercept_time_s = lower_at->t_s;
+  return send(scene, Plane::kObject, lower_at->x_mm, lower_at->y_mm, lower_at->theta_rad, target_,
+              Phase::kLowering);
+}
+
+std::optional<Goal> SaveCyclePlanner::watch_turn(const Scene& scene) {
+  const Sheep* target = find_target(scene);
+  if (target == nullptr) return raise(scene);  // gone (escaped, dead, lost): free the arm
+  if (rules_.heading_to_centre(*target)) {
+    // Turned by the touch (or on its own): the save is done.
+    ++status_.saves;
+    target_saved_ = true;
+    return raise(scene);
+  }
+  const PathOffset off = offset_from_path(*target, scene.arm.x_mm, scene.arm.y_mm);
+  if (turn_deadline_s_ < 0.0) {
+    // Wait until the whole body has passed the tool, plus a second.
+    double wait = 2.0;
+    if (off.speed_mm_s >= config().min_sheep_speed_mm_s) {
+      wait = std::max(0.0, off.along_mm + config().sheep_half_length_mm) / off.speed_mm_s + 1.0;
+    }
+    turn_deadline_s_ = scene.now_s + std::min(wait, config().max_turn_wait_s);
+  }
+  if (scene.now_s > turn_deadline_s_) return raise(scene);
+  if (off.speed_mm_s < config().min_sheep_speed_mm_s) return std::nullopt;
+  if (off.along_mm < -(config().sheep_half_length_mm + 30.0)) return raise(scene);  // passed by
+  // Paper's single-sheep planner: "the position and orientation of the
+  // manipulator are corrected to compensate for slight changes".
+  if (std::abs(off.lateral_mm) > config().lateral_tolerance_mm && off.along_mm > 0.0 &&
+      corrections_ < config().max_corrections) {
+    const double ux = target->vx_mm_s / off.speed_mm_s;
+    const double uy = target->vy_mm_s / off.speed_mm_s;
+    const double x = target->x_mm + off.along_mm * ux;
+    const double y = target->y_mm + off.along_mm * uy;
+    if (rules_.usable_point(x, y)) {
+      ++corrections_;
+      return send(scene, Plane::kObject, x, y,
+                  std::atan2(rules_.centre_y_mm() - y, rules_.centre_x_mm() - x), target_,
+                  Phase::kCorrecting);
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<Goal> SaveCyclePlanner::raise(const Scene& scene) {
+  return send(
+      scene, Plane::kElevation, scene.arm.x_mm, scene.arm.y_mm,
+      std::atan2(rules_.centre_y_mm() - scene.arm.y_mm, rules_.centre_x_mm() - scene.arm.x_mm),
+      target_, Phase::kRaising);
+}
+
+std::optional<Goal> SaveCyclePlanner::send(const Scene& scene, Plane plane, double x_mm,
+                                           double y_mm, double theta_rad, int target, Phase next) {
+  Goal goal;
+  goal.goal_id = next_goal_id_++;
+  goal.plane = plane;
+  goal.x_mm = x_mm;
+  goal.y_mm = y_mm;
+  goal.theta_rad = theta_rad;
+  goal.target = target;
+  const ArmModel& arm = scene.arm;
+  double expected = std::hypot(x_mm - arm.x_mm, y_mm - arm.y_mm) / arm.speed_mm_s + arm.overhead_s;
+  if (plane == Plane::kObject && !arm.lowered) expected += arm.lowering_time_s;
+  if (plane == Plane::kElevation && arm.lowered) expected += arm.raise_time_s;
+  outstanding_ = Outstanding{
+      goal, scene.now_s + config().goal_timeout_factor * expected + config().goal_timeout_slack_s};
+  status_.goal_id = goal.goal_id;
+  set_phase(next);
+  return goal;
+}
+
+}  // namespace ephor::planner

@@ -1,0 +1,109 @@
+#pragma once
+// SaveCyclePlanner: the save cycle shared by the planners of paper 003,
+// section 3.4, as a state machine driven by planning jobs and motion_done
+// events:
+//
+//   choose --(intercept accepted)--> moving (elevation plane, facing centre)
+//   moving --done--> verifying: target still there and still leaving? intercept
+//            re-planned from where the arm really is (the arm may be slower
+//            than hoped: far off -> move again); no other sheep under the arm
+//   verifying --> lowering (object plane over the target) --> turning: wait for
+//            the touch that turns the sheep toward the centre, correcting the
+//            tool in the object plane if the sheep's path drifts
+//   turning --(target turned / gone / passed / waited too long)--> raising
+//   raising --done--> choose again (or park, for the single-sheep planner)
+//   choose --(nobody needs saving)--> parking at the lower-right corner
+//
+// A failed or timed-out goal sends the cycle back to choose (after raising
+// when the tool may be down). Subclasses decide which sheep to save and
+// where to meet it.
+
+#include <optional>
+#include <string>
+
+#include "procs/planner/field_rules.h"
+#include "procs/planner/intercept_solver.h"
+#include "procs/planner/planner.h"
+
+namespace ephor::planner {
+
+// A sheep chosen to save and where to meet it.
+struct SavePlan {
+  int target = -1;
+  Intercept intercept;
+};
+
+class SaveCyclePlanner : public Planner {
+ public:
+  explicit SaveCyclePlanner(const PlannerConfig& config);
+
+  std::optional<Goal> plan(const Scene& scene) override;
+  bool on_motion_done(int64_t goal_id, bool succeeded) override;
+  PlannerStatus status() const override { return status_; }
+
+  enum class Phase {
+    kChoosing,
+    kMoving,
+    kVerifying,
+    kLowering,
+    kTurning,
+    kCorrecting,
+    kRaising,
+    kParking,
+    kParked,
+    kHolding
+  };
+  Phase phase() const { return phase_; }
+  static const char* phase_name(Phase phase);
+
+ protected:
+  // Step 1 and 2: which sheep to save now and the accepted intercept.
+  // `candidates` is set to the number of sheep that need saving. nullopt
+  // with candidates == 0: nobody needs saving (park); otherwise every
+  // intercept was rejected (hold and try again next job).
+  virtual std::optional<SavePlan> choose(const Scene& scene, int* candidates) = 0;
+  // Step 3's re-plan once the arm is over the intercept: where to lower.
+  virtual std::optional<Intercept> replan_at_intercept(const Scene& scene, const Sheep& target);
+  // Whether step 3 re-checks for other sheep under the arm.
+  virtual bool checks_other_sheep() const { return true; }
+  // Whether to park after every save (the single-sheep planner does).
+  virtual bool parks_after_save() const { return false; }
+
+  const FieldRules& rules() const { return rules_; }
+  const PlannerConfig& config() const { return rules_.config(); }
+  // Delay between reaching the intercept in the elevation plane and the
+  // tool being down, plus the overheads of the move and the lowering goals.
+  double lowering_delay_s(const ArmModel& arm) const;
+
+ private:
+  std::optional<Goal> step(const Scene& scene);
+  std::optional<Goal> start_over(const Scene& scene);
+  std::optional<Goal> verify(const Scene& scene);
+  std::optional<Goal> watch_turn(const Scene& scene);
+  std::optional<Goal> send(const Scene& scene, Plane plane, double x_mm, double y_mm,
+                           double theta_rad, int target, Phase next);
+  std::optional<Goal> raise(const Scene& scene);
+  const Sheep* find_target(const Scene& scene) const;
+  void set_phase(Phase phase);
+
+  FieldRules rules_;
+  Phase phase_ = Phase::kChoosing;
+  PlannerStatus status_;
+
+  struct Outstanding {
+    Goal goal;
+    double deadline_s = 0.0;
+  };
+  std::optional<Outstanding> outstanding_;
+  // Result of the last goal, consumed by the next job: true = done.
+  std::optional<bool> last_result_;
+  int64_t next_goal_id_ = 1;
+  int target_ = -1;
+  Intercept intercept_;
+  int corrections_ = 0;
+  int raise_failures_ = 0;
+  double turn_deadline_s_ = 0.0;
+  bool target_saved_ = false;
+};
+
+}  // namespace ephor::planner
