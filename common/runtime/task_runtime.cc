@@ -244,6 +244,7 @@ void TaskRuntime::task_main(Task& task) {
 
     apply_pending(task);  // BEGIN_PROC
     const int64_t start_ns = mono_ns();
+    const int64_t start_cpu_ns = thread_cpu_ns();
     const int cpu = current_cpu();
     try {
       task.job();
@@ -251,6 +252,7 @@ void TaskRuntime::task_main(Task& task) {
       spdlog::error("runtime: job of task {} threw: {}", task.name, e.what());
     }
     const int64_t end_ns = mono_ns();  // END_PROC
+    const int64_t end_cpu_ns = thread_cpu_ns();
 
     task_job_t rec{};
     rec.utime = wall_us() - to_us(end_ns - release_ns);
@@ -258,6 +260,7 @@ void TaskRuntime::task_main(Task& task) {
     rec.release_mono_us = to_us(release_ns);
     rec.start_latency_us = static_cast<int32_t>(to_us(start_ns - release_ns));
     rec.exec_us = static_cast<int32_t>(to_us(end_ns - start_ns));
+    rec.cpu_us = static_cast<int32_t>(to_us(end_cpu_ns - start_cpu_ns));
     int64_t deadline_ns = 0;
     int64_t period_ns = 0;
     {

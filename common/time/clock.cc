@@ -21,6 +21,12 @@ int64_t mono_ns() {
   return timespec_to_ns(ts);
 }
 
+int64_t thread_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return timespec_to_ns(ts);
+}
+
 int64_t wall_us() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);

@@ -13,6 +13,8 @@ namespace ephor {
 int64_t mono_ns();
 // CLOCK_MONOTONIC in microseconds.
 inline int64_t mono_us() { return mono_ns() / 1000; }
+// CPU time used by the calling thread (CLOCK_THREAD_CPUTIME_ID), ns.
+int64_t thread_cpu_ns();
 // CLOCK_REALTIME in microseconds since the Unix epoch (the `utime` of messages).
 int64_t wall_us();
 

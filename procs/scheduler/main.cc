@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
       r.rt_granted = m.rt_granted;
       r.rt_error = m.rt_error;
       r.generation = m.generation;
-      for (const auto& j : m.jobs) r.jobs.push_back({j.start_latency_us, j.exec_us, j.deadline_met != 0, j.skipped_releases});
+      for (const auto& j : m.jobs) r.jobs.push_back({j.start_latency_us, j.exec_us, j.cpu_us, j.deadline_met != 0, j.skipped_releases});
       std::lock_guard<std::mutex> lock(mutex);
       sched.on_jobs(r, mono_us());
     });

@@ -63,6 +63,7 @@ void Scheduler::on_register(const Registration& reg, int64_t now_us) {
                 std::to_string(reg.pid) + ")");
       row.exec.clear();
       row.jitter.clear();
+      row.demand.clear();
       row.refusal_reported = false;
     }
   }
@@ -84,6 +85,7 @@ void Scheduler::on_jobs(const JobsReport& report, int64_t now_us) {
   }
   for (const JobSample& j : report.jobs) {
     row.exec.add(j.exec_us);
+    row.demand.add(j.cpu_us >= 0 ? j.cpu_us : j.exec_us);
     row.jitter.add(j.start_latency_us);
     ++row.jobs;
     ++row.jobs_in_window;
@@ -103,8 +105,8 @@ void Scheduler::on_jobs(const JobsReport& report, int64_t now_us) {
 }
 
 double Scheduler::utilisation(const Row& row) const {
-  if (row.exec.empty()) return row.entry.expected_utilisation;
-  const double est_us = row.exec.max_of_newest(config_.estimate_window);
+  if (row.demand.empty()) return row.entry.expected_utilisation;
+  const double est_us = row.demand.max_of_newest(config_.estimate_window);
   if (row.entry.periodic && row.assignment.period_us > 0) return est_us / static_cast<double>(row.assignment.period_us);
   // Triggered: cost times the measured release rate.
   return est_us * 1e-6 * row.rate_hz;

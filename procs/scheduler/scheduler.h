@@ -6,7 +6,8 @@
 // It owns the host's task table, gives every task a CPU (pinned, or first-fit
 // decreasing for "auto"), a policy and a rate-monotonic priority, keeps the
 // newest execution times of every task (percentiles over `history` jobs; the
-// paper's three-run estimate for utilisation), and when a CPU's measured
+// paper's three-run estimate for utilisation, on CPU time so that
+// preemption by others does not look like demand), and when a CPU's measured
 // utilisation passes its schedulable bound it moves an "auto" task to a CPU
 // where it fits and says why.
 
@@ -44,7 +45,8 @@ struct Registration {
 
 struct JobSample {
   int32_t start_latency_us = 0;
-  int32_t exec_us = 0;
+  int32_t exec_us = 0;   // wall time from start to end
+  int32_t cpu_us = -1;   // CPU time of the job (its demand); -1 = unknown, use exec_us
   bool deadline_met = true;
   int32_t skipped_releases = 0;
 };
@@ -123,6 +125,7 @@ class Scheduler {
     int64_t last_migrated_us = -1'000'000'000'000;
     RollingStats exec;
     RollingStats jitter;
+    RollingStats demand;  // CPU time per job: what utilisation is estimated from
     int64_t jobs = 0;
     int64_t misses = 0;
     int64_t jobs_in_window = 0;   // jobs since the last rebalance (rate of triggered tasks)
@@ -130,7 +133,8 @@ class Scheduler {
     bool rt_granted = false;
     bool refusal_reported = false;
     std::string rt_error;
-    Row(TaskEntry e, size_t history) : entry(std::move(e)), exec(history), jitter(history) {}
+    Row(TaskEntry e, size_t history)
+        : entry(std::move(e)), exec(history), jitter(history), demand(history) {}
   };
 
   Row& row_for(const std::string& process, const std::string& task, bool periodic, int64_t period_us,

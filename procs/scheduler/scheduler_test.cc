@@ -31,7 +31,7 @@ JobsReport jobs(const std::string& task, int exec_us, int n, int32_t generation 
   r.rt_granted = rt;
   r.rt_error = rt ? "" : "sched_setscheduler: Operation not permitted";
   r.generation = generation;
-  for (int i = 0; i < n; ++i) r.jobs.push_back({5, exec_us, true, 0});
+  for (int i = 0; i < n; ++i) r.jobs.push_back({5, exec_us, exec_us, true, 0});
   return r;
 }
 
@@ -96,7 +96,7 @@ TEST(Scheduler, UtilisationEstimateIsMaxOfNewestThreeJobs) {
   Scheduler s(two_cpus(), {periodic("a", 10'000)}, fake_readback);
   s.on_register(reg("a"), 0);
   JobsReport r = jobs("a", 0, 0);
-  for (int exec : {9000, 1000, 2000, 3000}) r.jobs.push_back({0, exec, true, 0});
+  for (int exec : {9000, 1000, 2000, 3000}) r.jobs.push_back({0, exec, exec, true, 0});
   s.on_jobs(r, 0);
   const auto st = s.status(0);
   EXPECT_NEAR(st.tasks[0].utilisation, 0.3, 1e-9);  // 3000 us of 10 ms, not 9000
@@ -132,9 +132,9 @@ TEST(Scheduler, DeadlineMissesCountLateJobsAndSkippedReleases) {
   Scheduler s(two_cpus(), {periodic("a", 10'000)}, fake_readback);
   s.on_register(reg("a"), 0);
   JobsReport r = jobs("a", 0, 0);
-  r.jobs.push_back({0, 100, true, 0});
-  r.jobs.push_back({0, 15000, false, 0});
-  r.jobs.push_back({0, 100, true, 2});
+  r.jobs.push_back({0, 100, 100, true, 0});
+  r.jobs.push_back({0, 15000, 15000, false, 0});
+  r.jobs.push_back({0, 100, 100, true, 2});
   s.on_jobs(r, 0);
   EXPECT_EQ(s.status(0).tasks[0].deadline_misses, 3);
 }

@@ -202,7 +202,7 @@ TEST_F(SchedulerIntegration, OverloadedCpuMigratesATaskAtRunTime) {
   EXPECT_TRUE(wait_until([&] {
     return thread_has(probe.tid("gamma/a"), 1, Policy::kOther) || thread_has(probe.tid("gamma/b"), 1, Policy::kOther);
   }, seconds(15)));
-  EXPECT_TRUE(procs.has_line("scheduler", "migrating gamma/"));
+  EXPECT_TRUE(wait_until([&] { return procs.has_line("scheduler", "migrating gamma/"); }, seconds(5)));
   EXPECT_TRUE(wait_until([&] {
     for (const auto& e : probe.status().events)
       if (e.find("migrating gamma/") != std::string::npos) return true;
