@@ -1,0 +1,156 @@
+#pragma once
+// WorldModel: blobs of each frame -> tracked objects (sheep), paper 003,
+// section 4.2, with the double alpha-beta filter of section 4.3. Per frame,
+// in the paper's order:
+//   1. visible blobs to known (visible) objects: a blob must lie within a
+//      gate around the object's predicted position (last position + filtered
+//      velocity * dt), so position and velocity must both be consistent. An
+//      object with no such blob becomes obscured. Two objects whose
+//      predictions fall on one blob much larger than either (their marks
+//      merged) both coast, obscured, until they separate.
+//   2. leftover blobs to obscured objects, with a gate that widens with the
+//      time obscured (the paper's widening "percent").
+//   3. obscured objects are dead-reckoned: last seen position + velocity *
+//      time obscured.
+//   4. remaining blobs inside the field become new objects (new ids).
+// An object whose position (F, via the calibration) is outside the field is
+// marked dead; so is one obscured longer than max_obscured_s. Dead objects are
+// still reported for report_dead_s, then forgotten. Ids start at 1, increase,
+// and are never reused.
+//
+// Frames: image px (vision's blobs); F in mm through the calibration at the
+// height of the sheep's marks. Times: the frames' capture utime (us).
+// Frames whose utime does not increase (duplicates, reordering) are ignored
+// and counted; dropped frames are just a longer dt.
+//
+// Not thread-safe: one owner (the "associate" task).
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "common/calibration/field_calibration.h"
+#include "common/geometry/workcell.h"
+#include "procs/worldmodel/alpha_beta_filter.h"
+
+namespace ephor::worldmodel {
+
+// One blob from the vision process (blob_t), image px.
+struct Blob {
+  Eigen::Vector2d centre_px;
+  int area_px = 0;
+};
+
+// The blobs of one camera frame (blobs_t).
+struct BlobFrame {
+  int64_t utime_us = 0;  // capture time of the frame, us
+  int64_t frame_index = 0;
+  std::vector<Blob> blobs;
+};
+
+enum class ObjectState { kVisible, kObscured, kDead };
+
+// One tracked object as published (object_t).
+struct ObjectEstimate {
+  int id = 0;
+  ObjectState state = ObjectState::kVisible;
+  Eigen::Vector2d position_px{0.0, 0.0};    // filtered, dead-reckoned while obscured
+  Eigen::Vector2d position_mm{0.0, 0.0};    // F, at the mark height
+  Eigen::Vector2d velocity_px_s{0.0, 0.0};  // second alpha-beta filter
+  Eigen::Vector2d velocity_mm_s{0.0, 0.0};  // F
+  double since_seen_s = 0.0;                // 0 while visible
+  int area_px = 0;                          // of the last associated blob
+};
+
+struct WorldModelConfig {
+  geometry::Workcell workcell;  // field extent in F
+  // Height in F of what the camera sees of a sheep (the simulator's wool
+  // mark top, procs/sim/world.h), mm: the calibration is evaluated there.
+  double mark_height_mm = 52.0;
+  DoubleAlphaBetaFilter::Params filter;  // px, s
+  // Stage 1 gate: base radius plus growth with the frame interval (dropped
+  // frames), px and px/s. A sheep moves ~0.4 px per frame; its mark is ~16 px.
+  double visible_gate_px = 6.0;
+  double visible_gate_growth_px_s = 30.0;
+  // Stage 2 gate: base radius plus growth with the time obscured (a sheep
+  // turned by the arm while hidden ends up up to 2 * speed * t from its
+  // dead-reckoned position), capped.
+  double obscured_gate_px = 10.0;
+  double obscured_gate_growth_px_s = 20.0;
+  double obscured_gate_max_px = 80.0;
+  // A blob this many times an object's usual area, on which two objects'
+  // predictions fall, is their two marks merged.
+  double merge_area_ratio = 1.4;
+  double max_obscured_s = 10.0;  // lost: stop dead-reckoning
+  double report_dead_s = 2.0;    // keep reporting a dead object this long
+};
+
+struct WorldModelCounters {
+  int64_t frames = 0;               // processed
+  int64_t duplicate_frames = 0;     // utime equal to the last processed frame's
+  int64_t out_of_order_frames = 0;  // utime older than the last processed frame's
+  int64_t invalid_blobs = 0;        // non-finite centre or area <= 0
+  int64_t blobs_outside_field = 0;  // left over and outside the field: no new object
+  int64_t objects_created = 0;
+  int64_t objects_died = 0;
+  int64_t reacquired = 0;  // stage 2 matches
+  int64_t merges = 0;      // objects sent to coast by a merged blob
+};
+
+class WorldModel {
+ public:
+  enum class FrameResult { kProcessed, kDuplicate, kOutOfOrder };
+
+  // Throws std::invalid_argument on a bad configuration.
+  explicit WorldModel(calibration::FieldCalibration calibration, WorldModelConfig config = {});
+
+  // Runs the four stages on one frame.
+  FrameResult process(const BlobFrame& frame);
+
+  // Every live object and the recently dead, by id, as of the last frame.
+  std::vector<ObjectEstimate> objects() const;
+  const WorldModelCounters& counters() const { return counters_; }
+  int64_t last_utime_us() const { return last_utime_us_; }
+  const WorldModelConfig& config() const { return config_; }
+
+ private:
+  struct Track {
+    int id = 0;
+    ObjectState state = ObjectState::kVisible;
+    DoubleAlphaBetaFilter filter;
+    Eigen::Vector2d seen_px{0.0, 0.0};  // filtered position when last seen
+    Eigen::Vector2d estimate_px{0.0, 0.0};
+    double seen_s = 0.0;  // frame time when last seen
+    double dead_s = 0.0;  // frame time of death
+    int area_px = 0;
+  };
+
+  void stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>& blobs,
+                      const std::vector<int>& areas, std::vector<bool>& taken);
+  void stage2_obscured(const std::vector<Eigen::Vector2d>& blobs, const std::vector<int>& areas,
+                       std::vector<bool>& taken);
+  void stage3_dead_reckon();
+  void stage4_new(const std::vector<Eigen::Vector2d>& blobs, const std::vector<int>& areas,
+                  const std::vector<bool>& taken);
+  void see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire);
+  void hide(Track& t);
+  void kill(Track& t);
+  bool inside_field(const Eigen::Vector2d& px) const;
+  Eigen::Vector2d dead_reckoned(const Track& t) const;
+
+  calibration::FieldCalibration calibration_;
+  WorldModelConfig config_;
+  calibration::AffineMap mark_map_;  // image px -> F mm at the mark height
+  std::map<int, Track> tracks_;      // by id
+  int next_id_ = 1;
+  bool started_ = false;
+  int64_t first_utime_us_ = 0;
+  int64_t last_utime_us_ = 0;
+  double now_s_ = 0.0;  // last frame's time since the first frame, s
+  WorldModelCounters counters_;
+};
+
+}  // namespace ephor::worldmodel
