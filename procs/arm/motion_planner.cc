@@ -1,0 +1,241 @@
+#include "procs/arm/motion_planner.h"
+
+#include <spdlog/fmt/fmt.h>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "procs/arm/trapezoid_profile.h"
+
+namespace ephor::arm {
+
+namespace {
+
+// The straight line between two tool poses: position linear, orientation slerp.
+struct PoseLine {
+  Eigen::Vector3d p0, p1;
+  Eigen::Quaterniond r0, r1;
+  double length_mm = 0.0;
+  double angle_rad = 0.0;
+
+  PoseLine(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
+      : p0(a.translation()), p1(b.translation()), r0(a.linear()), r1(b.linear()) {
+    r0.normalize();
+    r1.normalize();
+    length_mm = (p1 - p0).norm();
+    angle_rad = r0.angularDistance(r1);
+  }
+  Eigen::Isometry3d at(double u) const {
+    u = std::clamp(u, 0.0, 1.0);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = r0.slerp(u, r1).toRotationMatrix();
+    t.translation() = p0 + u * (p1 - p0);
+    return t;
+  }
+};
+
+// Joint vector nearest `previous` among the IK solutions (each joint's 2 pi
+// representation chosen nearest previous).
+std::optional<Joints> track(const Puma560& arm, const Eigen::Isometry3d& pose,
+                            const Joints& previous) {
+  return arm.nearest_inverse(pose, previous);
+}
+
+}  // namespace
+
+const char* to_string(MotionKind kind) {
+  switch (kind) {
+    case MotionKind::kStay:
+      return "stay";
+    case MotionKind::kCartesian:
+      return "cartesian";
+    case MotionKind::kJointSpace:
+      return "joint-space";
+  }
+  return "unknown";
+}
+
+MotionPlanner::MotionPlanner(const geometry::Workcell& cell, MotionPlannerConfig config)
+    : cell_(cell),
+      config_(config),
+      arm_(cell.tool_length_mm),
+      collisions_(arm_, cell, config.collision),
+      joint_planner_(arm_.limits(), config.joint_planner) {
+  if (!(config_.max_speed_mm_s > 0.0) || !std::isfinite(config_.max_speed_mm_s))
+    throw std::invalid_argument("MotionPlanner: max speed must be > 0 mm/s");
+}
+
+std::optional<std::string> MotionPlanner::check_cartesian(const Joints& start,
+                                                          const Eigen::Isometry3d& goal_in_base,
+                                                          const Joints& goal_q,
+                                                          double min_tip_z_mm) const {
+  const PoseLine line(arm_.forward(start), goal_in_base);
+  const int n =
+      std::max(1, static_cast<int>(std::ceil(std::max(line.length_mm / config_.check_step_mm,
+                                                      line.angle_rad / config_.check_step_rad))));
+  Joints q = start;
+  for (int i = 1; i <= n; ++i) {
+    const double u = static_cast<double>(i) / n;
+    const auto next = track(arm_, line.at(u), q);
+    if (!next)
+      return fmt::format("the straight line leaves the reachable workspace {:.0f} % of the way",
+                         100 * u);
+    const double jump = (*next - q).cwiseAbs().maxCoeff();
+    if (jump > config_.max_joint_step_rad)
+      return fmt::format(
+          "the straight line changes IK branch or passes a singularity {:.0f} % of the way "
+          "(joint jump {:.2f} rad)",
+          100 * u, jump);
+    if (auto hit = collisions_.collision(*next, min_tip_z_mm))
+      return fmt::format("the straight line collides {:.0f} % of the way: ", 100 * u) + *hit;
+    q = *next;
+  }
+  if ((q - goal_q).cwiseAbs().maxCoeff() > 1e-6)
+    return std::string(
+        "the straight line ends in another IK branch than the one nearest the start");
+  return std::nullopt;
+}
+
+MotionPlan MotionPlanner::plan(const Joints& start, const Eigen::Isometry3d& goal_in_base,
+                               double speed_mm_s) const {
+  MotionPlan out;
+  if (!start.allFinite()) {
+    out.reason = "current joints are not finite";
+    return out;
+  }
+  if (!goal_in_base.matrix().allFinite()) {
+    out.reason = "goal pose is not finite";
+    return out;
+  }
+  if (!(speed_mm_s >= 0.0) || !std::isfinite(speed_mm_s)) {
+    out.reason = "requested speed must be finite and >= 0 mm/s";
+    return out;
+  }
+  const double speed =
+      speed_mm_s == 0.0 ? config_.max_speed_mm_s : std::min(speed_mm_s, config_.max_speed_mm_s);
+  out.requested_speed_mm_s = speed;
+  const auto goal_q = arm_.nearest_inverse(goal_in_base, start);
+  if (!goal_q) {
+    out.reason = "goal pose is out of reach of the PUMA 560 within its joint limits";
+    return out;
+  }
+  out.goal_q = *goal_q;
+  const double base_z = cell_.base_z_mm;
+  const double min_tip_z =
+      std::min(arm_.forward(start).translation().z(), goal_in_base.translation().z()) + base_z -
+      config_.tip_height_margin_mm;
+  if (auto hit = collisions_.collision(*goal_q, min_tip_z)) {
+    out.reason = "goal pose collides: " + *hit;
+    return out;
+  }
+  auto why_not_line = check_cartesian(start, goal_in_base, *goal_q, min_tip_z);
+  if (!why_not_line) {
+    MotionPlan p = plan_cartesian(start, goal_in_base, *goal_q, speed);
+    if (p.ok) return p;
+    why_not_line = p.reason;
+  }
+  MotionPlan p = plan_joint_space(start, *goal_q, speed, min_tip_z);
+  p.cartesian_rejected = *why_not_line;
+  if (!p.ok) p.reason = "straight line not possible (" + *why_not_line + "); " + p.reason;
+  return p;
+}
+
+MotionPlan MotionPlanner::plan_cartesian(const Joints& start, const Eigen::Isometry3d& goal_in_base,
+                                         const Joints& goal_q, double speed_mm_s) const {
+  MotionPlan out;
+  out.goal_q = goal_q;
+  out.requested_speed_mm_s = speed_mm_s;
+  const PoseLine line(arm_.forward(start), goal_in_base);
+  const double length =
+      std::max(line.length_mm, config_.turn_equivalent_mm_per_rad * line.angle_rad);
+  if (length < 1e-6 && (goal_q - start).cwiseAbs().maxCoeff() < 1e-9) {
+    out.ok = true;
+    out.kind = MotionKind::kStay;
+    out.trajectory.points.push_back({0.0, goal_q, Joints::Zero()});
+    return out;
+  }
+  const TrapezoidProfile profile(length, speed_mm_s, config_.cartesian_accel_mm_s2);
+  const Puma560& arm = arm_;
+  const TimedPath path = [&](double t, const Joints& previous,
+                             std::string* why) -> std::optional<Joints> {
+    const double u = length > 0.0 ? profile.position(t) / length : 1.0;
+    if (u >= 1.0 - 1e-12) return goal_q;
+    auto q = track(arm, line.at(u), previous);
+    if (!q && why) *why = "inverse kinematics failed along the line";
+    return q;
+  };
+  ScalingConfig scaling = config_.scaling;
+  scaling.max_tool_speed_mm_s = speed_mm_s * 1.001;  // finite differences of an exact line
+  const ScaledTrajectory scaled =
+      SpeedScaler(arm_, scaling).scale(path, profile.duration_s(), start);
+  if (!scaled.ok) {
+    out.reason = scaled.reason;
+    return out;
+  }
+  out.ok = true;
+  out.kind = MotionKind::kCartesian;
+  out.trajectory = scaled.trajectory;
+  out.speed_scale = 1.0 / scaled.stretch;
+  out.peak_tool_speed_mm_s = scaled.peak_tool_speed_mm_s;
+  out.velocity_ratio = scaled.velocity_ratio;
+  out.acceleration_ratio = scaled.acceleration_ratio;
+  return out;
+}
+
+MotionPlan MotionPlanner::plan_joint_space(const Joints& start, const Joints& goal_q,
+                                           double speed_mm_s, double min_tip_z_mm) const {
+  MotionPlan out;
+  out.goal_q = goal_q;
+  out.requested_speed_mm_s = speed_mm_s;
+  out.kind = MotionKind::kJointSpace;
+  out.joint_path = joint_planner_.plan(start, goal_q, [this, min_tip_z_mm](const Joints& q) {
+    return collisions_.clear(q, min_tip_z_mm);
+  });
+  if (out.joint_path.status != JointPathStatus::kFound) {
+    out.reason = std::string("joint-space path ") + to_string(out.joint_path.status) + ": " +
+                 out.joint_path.reason;
+    return out;
+  }
+  // Straight joint segments, each a synchronised trapezoid from rest to rest
+  // at the joints' own limits; the scaler then enforces the tool-speed cap.
+  const std::vector<Joints>& w = out.joint_path.waypoints;
+  const JointLimits& lim = arm_.limits();
+  std::vector<TrapezoidProfile> segments;
+  std::vector<double> t_begin;
+  double total = 0.0;
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    const Joints delta = (w[k + 1] - w[k]).cwiseAbs();
+    double v = 1e9, a = 1e9;  // of the segment parameter in [0, 1], 1/s and 1/s^2
+    for (int i = 0; i < 6; ++i) {
+      if (delta[i] < 1e-12) continue;
+      v = std::min(v, lim.qd_max[i] / delta[i]);
+      a = std::min(a, lim.qdd_max[i] / delta[i]);
+    }
+    segments.emplace_back(1.0, v, a);
+    t_begin.push_back(total);
+    total += segments.back().duration_s();
+  }
+  const TimedPath path = [&](double t, const Joints&, std::string*) -> std::optional<Joints> {
+    if (segments.empty()) return w.back();
+    std::size_t k = 0;
+    while (k + 1 < segments.size() && t >= t_begin[k + 1]) ++k;
+    const double u = segments[k].position(t - t_begin[k]);
+    return Joints(w[k] + u * (w[k + 1] - w[k]));
+  };
+  ScalingConfig scaling = config_.scaling;
+  scaling.max_tool_speed_mm_s = speed_mm_s;
+  const ScaledTrajectory scaled = SpeedScaler(arm_, scaling).scale(path, total, start);
+  if (!scaled.ok) {
+    out.reason = scaled.reason;
+    return out;
+  }
+  out.ok = true;
+  out.trajectory = scaled.trajectory;
+  out.speed_scale = 1.0 / scaled.stretch;
+  out.peak_tool_speed_mm_s = scaled.peak_tool_speed_mm_s;
+  out.velocity_ratio = scaled.velocity_ratio;
+  out.acceleration_ratio = scaled.acceleration_ratio;
+  return out;
+}
+
+}  // namespace ephor::arm
