@@ -1,0 +1,255 @@
+// ephor-vision: the vision process of the shepherding system (paper sections
+// 3.5 and 4.1). A periodic task at the camera rate takes the newest camera
+// frame (older ones are dropped: NASREM's rule), finds its blobs with
+// VisionPipeline and publishes them on BLOBS with the frame's capture time.
+// VISION_CMD (full state: paused, blobify/trackify, full/axis scan,
+// threshold) switches the mode at run time; the newest command wins.
+//
+//   ephor-vision [--period-ms 33.333] [--k 4] [--mode blobify|trackify] [--scan full|axis]
+//                [--threshold -1] [--band-px 16] [--full-every 15] [--min-area 10]
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/lcm/mailbox.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/blobs_t.hpp"
+#include "ephor/camera_frame_t.hpp"
+#include "ephor/vision_cmd_t.hpp"
+#include "procs/vision/vision_pipeline.h"
+
+namespace {
+
+using ephor::vision::FrameStatus;
+using ephor::vision::ScanMode;
+using ephor::vision::SearchMode;
+using ephor::vision::VisionSettings;
+
+// A camera frame and when it arrived here (for processing_us).
+struct ReceivedFrame {
+  ephor::camera_frame_t msg;
+  int64_t received_mono_ns = 0;
+};
+
+const char* mode_name(SearchMode m) { return m == SearchMode::kTrackify ? "trackify" : "blobify"; }
+const char* scan_name(ScanMode s) { return s == ScanMode::kAxis ? "axis" : "full"; }
+
+std::string describe(const VisionSettings& s) {
+  return std::string(s.paused ? "paused, " : "running, ") + mode_name(s.mode) + ", " +
+         scan_name(s.scan) + " scan, threshold " +
+         (s.threshold == ephor::vision::kThresholdAuto ? std::string("auto")
+                                                       : std::to_string(s.threshold));
+}
+
+// "" when the frame's fields agree with each other, else the problem.
+std::string check_frame(const ephor::camera_frame_t& f) {
+  if (f.width <= 0 || f.height <= 0 || f.width > ephor::vision::kMaxImageDim ||
+      f.height > ephor::vision::kMaxImageDim) {
+    return "frame " + std::to_string(f.frame_index) + " has size " + std::to_string(f.width) +
+           " x " + std::to_string(f.height) + " px (want 1.." +
+           std::to_string(ephor::vision::kMaxImageDim) + ")";
+  }
+  const int64_t want = static_cast<int64_t>(f.width) * f.height;
+  if (f.size != want || static_cast<int64_t>(f.data.size()) != want) {
+    return "frame " + std::to_string(f.frame_index) + " carries " + std::to_string(f.data.size()) +
+           " bytes (size field " + std::to_string(f.size) +
+           "), want width * height = " + std::to_string(want);
+  }
+  return "";
+}
+
+// The vision task: everything here runs on the task's thread, except the
+// mailboxes' put() (bus thread).
+class VisionTask {
+ public:
+  VisionTask(ephor::Bus& bus, ephor::vision::VisionPipeline& pipeline,
+             std::shared_ptr<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>> frames,
+             std::shared_ptr<ephor::Mailbox<ephor::vision_cmd_t>> commands)
+      : bus_(bus),
+        pipeline_(pipeline),
+        frames_(std::move(frames)),
+        commands_(std::move(commands)) {}
+
+  void run_job() {
+    apply_newest_command();
+    const auto frame = frames_->take();
+    if (!frame) return;  // no new frame since the last job
+    const ephor::camera_frame_t& f = (*frame)->msg;
+    std::string problem = check_frame(f);
+    ephor::vision::FrameResult r;
+    if (problem.empty()) {
+      const ephor::vision::ImageView view{f.data.data(), f.width, f.height, f.width};
+      r = pipeline_.process(view);
+      if (r.status == FrameStatus::kBadFrame) problem = r.error;
+    }
+    if (!problem.empty()) {
+      ++bad_frames_;
+      if (bad_frames_ <= 5 || bad_frames_ % 100 == 0) {
+        spdlog::warn("skipping bad camera frame ({} so far): {}", bad_frames_, problem);
+      }
+      return;
+    }
+    if (r.threshold_picked) {
+      const auto& c = pipeline_.last_threshold_choice();
+      if (r.threshold_provisional) {
+        spdlog::warn("threshold {} is provisional: {}", r.threshold, c.message);
+      } else {
+        spdlog::info("threshold {} picked from frame {} (field peak {}, mark peak {})", r.threshold,
+                     f.frame_index, c.background_peak, c.object_peak);
+      }
+    }
+    if (r.status == FrameStatus::kPaused) return;  // paused: publish nothing
+
+    msg_.utime = f.utime;
+    msg_.frame_index = f.frame_index;
+    msg_.mode = static_cast<int8_t>(r.mode);
+    msg_.scan = static_cast<int8_t>(r.scan);
+    msg_.threshold = r.threshold;
+    msg_.num_blobs = static_cast<int32_t>(r.blobs->size());
+    msg_.blobs.resize(r.blobs->size());
+    for (size_t i = 0; i < r.blobs->size(); ++i) {
+      const auto& b = (*r.blobs)[i];
+      msg_.blobs[i] = ephor::blob_t{b.u, b.v, b.area, b.u_min, b.v_min, b.u_max, b.v_max};
+    }
+    // Frame received -> blobs ready, us (includes the wait for this job).
+    msg_.processing_us = static_cast<float>(
+        static_cast<double>(ephor::mono_ns() - (*frame)->received_mono_ns) / 1e3);
+    bus_.publish(ephor::channels::kBlobs, msg_);
+    ++published_;
+    sum_processing_us_ += static_cast<double>(msg_.processing_us);
+    log_status_now_and_then(r);
+  }
+
+ private:
+  void apply_newest_command() {
+    const auto cmd = commands_->take();
+    if (!cmd) return;
+    VisionSettings s;
+    s.paused = cmd->paused;
+    s.mode = static_cast<SearchMode>(cmd->mode);
+    s.scan = static_cast<ScanMode>(cmd->scan);
+    s.threshold = cmd->threshold;
+    const VisionSettings before = pipeline_.settings();
+    const std::string problem = pipeline_.apply(s);
+    if (!problem.empty()) {
+      ++bad_commands_;
+      spdlog::warn("ignoring vision command from '{}' ({} so far): {}", cmd->header.sender,
+                   bad_commands_, problem);
+      return;
+    }
+    if (before.paused != s.paused || before.mode != s.mode || before.scan != s.scan ||
+        before.threshold != s.threshold) {
+      spdlog::info("vision mode: {} (was {})", describe(s), describe(before));
+    }
+  }
+
+  void log_status_now_and_then(const ephor::vision::FrameResult& r) {
+    const int64_t now = ephor::mono_ns();
+    if (now - last_status_ns_ < 10'000'000'000) return;
+    const double frames = static_cast<double>(published_ - published_at_status_);
+    spdlog::info(
+        "{} blobs in frame; {:.1f} frames/s published, mean frame-to-blobs {:.0f} us; "
+        "{} frames dropped for newer, {} bad frames, {} bad commands",
+        r.blobs->size(),
+        last_status_ns_ > 0 ? frames / (static_cast<double>(now - last_status_ns_) / 1e9) : 0.0,
+        frames > 0 ? sum_processing_us_ / frames : 0.0, frames_->overwritten(), bad_frames_,
+        bad_commands_);
+    last_status_ns_ = now;
+    published_at_status_ = published_;
+    sum_processing_us_ = 0.0;
+  }
+
+  ephor::Bus& bus_;
+  ephor::vision::VisionPipeline& pipeline_;
+  std::shared_ptr<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>> frames_;
+  std::shared_ptr<ephor::Mailbox<ephor::vision_cmd_t>> commands_;
+  ephor::blobs_t msg_{};
+  int64_t bad_frames_ = 0;
+  int64_t bad_commands_ = 0;
+  int64_t published_ = 0;
+  int64_t published_at_status_ = 0;
+  double sum_processing_us_ = 0.0;
+  int64_t last_status_ns_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ephor::block_shutdown_signals();
+  CLI::App app{"ephor-vision: blobify/trackify camera frames into BLOBS"};
+  ephor::ProcessArgs args;
+  ephor::add_process_flags(app, args, "vision");
+  double period_ms = 1000.0 / 30.0;
+  double duration_s = 0.0;
+  std::string mode = "blobify", scan = "full";
+  bool paused = false;
+  int threshold = ephor::vision::kThresholdAuto;
+  ephor::vision::PipelineConfig cfg;
+  app.add_option("--period-ms", period_ms,
+                 "task period, ms (the camera rate; the scheduler may override it)")
+      ->check(CLI::Range(0.1, 10000.0));
+  app.add_option("--mode", mode, "initial search mode")
+      ->check(CLI::IsMember({"blobify", "trackify"}));
+  app.add_option("--scan", scan, "initial blob measurement")
+      ->check(CLI::IsMember({"full", "axis"}));
+  app.add_option("--threshold", threshold,
+                 "grey level 1..254, or -1 = pick from the first frame's histogram");
+  app.add_flag("--paused", paused, "start paused (until a VISION_CMD resumes)");
+  app.add_option("--k", cfg.blobifier.sample_step, "sparse search step, px");
+  app.add_option("--min-area", cfg.blobifier.min_area, "smallest blob kept, px");
+  app.add_option("--max-blobs", cfg.blobifier.max_blobs, "most blobs per frame");
+  app.add_option("--band-px", cfg.trackifier.band_px,
+                 "trackify: border band searched for new blobs, px");
+  app.add_option("--full-every", cfg.trackifier.full_every,
+                 "trackify: full blobify every N frames (0 = never)");
+  app.add_option("--search-radius", cfg.trackifier.search_radius_px,
+                 "trackify: seed search radius, px");
+  app.add_option("--fraction", cfg.threshold.fraction,
+                 "threshold position between field and mark peaks (0..1)");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  ephor::init_logging(args.name);
+
+  try {
+    VisionSettings settings;
+    settings.paused = paused;
+    settings.mode = mode == "trackify" ? SearchMode::kTrackify : SearchMode::kBlobify;
+    settings.scan = scan == "axis" ? ScanMode::kAxis : ScanMode::kFull;
+    settings.threshold = threshold;
+    ephor::vision::VisionPipeline pipeline(cfg, settings);  // throws naming a bad flag
+
+    ephor::Bus bus(args.lcm_url, args.name);
+    auto frames = std::make_shared<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>>();
+    bus.subscribe<ephor::camera_frame_t>(
+        ephor::channels::kCamera, [frames](const ephor::camera_frame_t& m) {
+          // One copy out of LCM's decode buffer; the task then takes a pointer.
+          frames->put(std::make_shared<const ReceivedFrame>(ReceivedFrame{m, ephor::mono_ns()}));
+        });
+    auto commands = bus.mailbox<ephor::vision_cmd_t>(ephor::channels::kVisionCmd);
+
+    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    VisionTask task(bus, pipeline, frames, commands);
+    runtime.add_periodic("vision", std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6)),
+                         [&task] { task.run_job(); });
+    runtime.start();
+    spdlog::info("vision: {}; k {} px, period {:.3f} ms; {} -> {}", describe(settings),
+                 cfg.blobifier.sample_step, period_ms, ephor::channels::kCamera,
+                 ephor::channels::kBlobs);
+    ephor::wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
