@@ -22,19 +22,6 @@ std::optional<std::string> ArmCollisionChecker::collision(const Joints& q,
   const Eigen::Vector3d wrist = base + frames[4].translation();
   const Eigen::Vector3d tip = base + arm_.forward(q).translation();
 
-  if (tip.z() < config_.tip_table_clearance_mm)
-    return fmt::format("tool tip {:.1f} mm above the table (< {:.1f})", tip.z(),
-                       config_.tip_table_clearance_mm);
-  if (tip.z() < min_tip_z_mm)
-    return fmt::format(
-        "tool tip at z {:.1f} mm, below the lowest allowed {:.1f} mm for this motion", tip.z(),
-        min_tip_z_mm);
-  for (const Eigen::Vector3d* p : {&elbow, &forearm_start, &wrist}) {
-    if (p->z() < config_.link_table_clearance_mm)
-      return fmt::format("arm link {:.1f} mm above the table (< {:.1f})", p->z(),
-                         config_.link_table_clearance_mm);
-  }
-
   // Points along each link centre line against the pedestal cylinder.
   const double keep_out = cell_.pedestal_radius_mm + config_.pedestal_clearance_mm;
   auto hits_pedestal = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double skip_mm) {
@@ -58,6 +45,19 @@ std::optional<std::string> ArmCollisionChecker::collision(const Joints& q,
     return fmt::format(
         "forearm or tool inside the pedestal (keep-out radius {:.1f} mm, top z {:.1f} mm)",
         keep_out, cell_.base_z_mm);
+  if (tip.z() < config_.tip_table_clearance_mm)
+    return fmt::format("tool tip {:.1f} mm above the table (< {:.1f})", tip.z(),
+                       config_.tip_table_clearance_mm);
+  if (tip.z() < min_tip_z_mm)
+    return fmt::format(
+        "tool tip at z {:.1f} mm, below the lowest allowed {:.1f} mm for this motion", tip.z(),
+        min_tip_z_mm);
+  for (const Eigen::Vector3d* p : {&elbow, &forearm_start, &wrist}) {
+    if (p->z() < config_.link_table_clearance_mm)
+      return fmt::format("arm link {:.1f} mm above the table (< {:.1f})", p->z(),
+                         config_.link_table_clearance_mm);
+  }
+
   return std::nullopt;
 }
 

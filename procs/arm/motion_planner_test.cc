@@ -72,7 +72,7 @@ TEST_F(MotionPlannerTest, StraightLineInElevationPlaneAtTheRequestedSpeed) {
   EXPECT_LE(r.velocity, 1.0);
   EXPECT_LE(r.acceleration, 1.0);
   EXPECT_LE(r.tool_speed_mm_s, 200.0 * 1.001);
-  EXPECT_GT(r.tool_speed_mm_s, 190.0);  // it does reach the requested speed on a 600 mm line
+  EXPECT_GT(r.tool_speed_mm_s, 190.0);      // it does reach the requested speed on a 600 mm line
   EXPECT_DOUBLE_EQ(plan.speed_scale, 1.0);  // far from the column no joint is near its limit
   // The tool stays on the line: every sample at the elevation plane height.
   for (const auto& p : plan.trajectory.points)
