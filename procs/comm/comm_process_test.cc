@@ -23,6 +23,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -194,13 +195,19 @@ class CommProcessTest : public ::testing::Test {
       rec_.update([&] { done_.push_back(m); });
     });
     planner_->subscribe<task_register_t>(channels::kTaskRegister, [this](const task_register_t& m) {
-      if (m.process == "comm" && m.task == "relay") rec_.update([&] { comm_ready_ = true; });
+      if (m.process == "comm" && m.task == "relay")
+        rec_.update([&] { registered_pids_.insert(m.pid); });
     });
     planner_->start();
     arm_ = std::make_unique<FakeArm>(url_, rec_);
-
     log_path_ = ::testing::TempDir() + "comm_process_test_" + std::to_string(getpid()) + "_" +
                 ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".log";
+    start_comm();
+  }
+
+  // Starts ephor-comm (output appended to the log) and waits until its relay
+  // task has registered, i.e. it is subscribed and running.
+  void start_comm() {
     const std::string exe = bin_dir() + "/ephor-comm";
     std::vector<std::string> argv_s = {
         exe,  "--name",     "comm", "--host",         "test", "--no-mlock", "--lcm-url",
@@ -210,14 +217,26 @@ class CommProcessTest : public ::testing::Test {
     argv.push_back(nullptr);
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 1, log_path_.c_str(), O_WRONLY | O_CREAT | O_APPEND,
+                                     0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    const int rc = posix_spawn(&pid_, exe.c_str(), &fa, nullptr, argv.data(), environ);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ);
     posix_spawn_file_actions_destroy(&fa);
     ASSERT_EQ(rc, 0) << "cannot start " << exe << ": " << std::strerror(rc);
-    ASSERT_TRUE(rec_.wait([this] { return comm_ready_; }, 10s))
+    pid_ = pid;
+    ASSERT_TRUE(rec_.wait([this, pid] { return registered_pids_.count(pid) > 0; }, 10s))
         << "ephor-comm did not register its relay task within 10 s; log:\n"
         << comm_log();
+  }
+
+  // kill -9, as a crash: no clean shutdown.
+  void crash_comm() {
+    ASSERT_GT(pid_, 0);
+    kill(pid_, SIGKILL);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = 0;
   }
 
   void TearDown() override {
@@ -294,7 +313,7 @@ class CommProcessTest : public ::testing::Test {
   std::unique_ptr<Bus> planner_;
   std::unique_ptr<FakeArm> arm_;
   std::vector<motion_done_t> done_;
-  bool comm_ready_ = false;
+  std::set<pid_t> registered_pids_;
   std::string log_path_;
   pid_t pid_ = 0;
 };
@@ -369,6 +388,26 @@ TEST_F(CommProcessTest, NanGoalIsRefusedAndNeverReachesTheArm) {
       EXPECT_TRUE(std::isfinite(c.u) && std::isfinite(c.v));
     }
     EXPECT_EQ(arm_->executions().size(), 1u);
+  });
+}
+
+TEST_F(CommProcessTest, CrashedAndRestartedCommContinuesAboveTheArmsLastSeq) {
+  send_goal(1, 120.0f);
+  const auto done1 = wait_done(1);
+  ASSERT_TRUE(done1) << comm_log();
+  ASSERT_EQ(done1->status, kStatusDone) << done1->reason;
+
+  crash_comm();
+  start_comm();  // a fresh comm: its own counter would start at seq 1 again
+
+  send_goal(2, 140.0f);
+  const auto done2 = wait_done(2);
+  ASSERT_TRUE(done2) << comm_log();
+  EXPECT_EQ(done2->status, kStatusDone) << done2->reason;
+  EXPECT_GT(done2->seq, done1->seq) << "the restarted comm reused a seq the arm had executed";
+  rec_.read([&] {
+    EXPECT_EQ(arm_->executions().size(), 2u) << "each goal executed once under its own seq";
+    for (const auto& [seq, n] : arm_->executions()) EXPECT_EQ(n, 1) << "seq " << seq;
   });
 }
 
