@@ -5,15 +5,19 @@
 //
 // Grey levels (before lighting and noise; defaults in CameraConfig):
 //   surroundings (off the table)  15   darker than the field
+//   arm (links, wrist, tool)      28   dark grey, darker than the field
 //   field (the table)             40   the histogram's dominant, background peak
-//   sheep body                    75   "slightly brighter than the field"
-//   arm (links, wrist, tool)      95   mid/dark grey
+//   sheep body                    52   "slightly brighter than the field"
 //   wool mark                    240   the object peak
-// The vision chooses its threshold between the background peak and the
-// object peak, 80-90 % of the way toward the object (section 2.3): about 200
-// here. Sheep bodies and the arm both stay far below it, so the arm hides
-// every mark it passes over (it is drawn last, over everything, since it is
-// always above the sheep) but never looks like a sheep itself.
+// Why these: the vision chooses its threshold from the histogram, between the
+// background peak and the object peak, 80-90 % of the way toward the object
+// (section 2.3): about 205 here. Everything but the marks sits in one
+// contiguous dark lobe (the bodies overlap the field's lobe under noise and
+// lighting, the arm lies between surroundings and field), so no body or arm
+// lobe can pass for the object peak, even with one sheep and the arm covering
+// ten times the marks' area. The arm is drawn last, over everything (it is
+// always above the sheep), so it hides every mark it passes over but never
+// looks like a sheep itself.
 //
 // Geometry: each point is projected with its true height in F, so the marks
 // (z = mark_height) and the arm's parts (at their own heights) appear where a
@@ -46,8 +50,8 @@ struct CameraConfig {
   geometry::OverheadCamera camera;
   double surround_level = 15.0;  // grey levels, 0..255
   double field_level = 40.0;
-  double body_level = 75.0;
-  double arm_level = 95.0;
+  double body_level = 52.0;
+  double arm_level = 28.0;
   double mark_level = 240.0;
   double noise_sigma = 2.5;         // grey levels, >= 0
   double gain_gradient = 0.06;      // gain 1 +- this at the image corners along the ramp

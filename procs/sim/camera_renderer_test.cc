@@ -54,8 +54,12 @@ TEST(CameraRenderer, FrameHasTheCameraSizeAndTheDocumentedLevels) {
   const uint8_t body =
       pixel(img, 512, cam.project(300 + 80 * std::cos(0.4), 300 + 80 * std::sin(0.4), 50));
   const uint8_t mark = pixel(img, 512, views[0].centre_px);
+  std::vector<uint8_t> with_arm;
+  const std::vector<ArmPart> arm = {{{900.0, 700.0, 100.0}, {900.0, 700.0, 300.0}, 40.0}};
+  r.render({sheep_at(1, 300, 300, 0.4)}, arm, with_arm);
+  EXPECT_LT(pixel(with_arm, 512, cam.project(900, 700, 300)) + 6, field) << "arm not dark";
   EXPECT_LT(outside, field);
-  EXPECT_LT(field + 15, body);
+  EXPECT_LT(field + 6, body);
   EXPECT_GT(mark, 200);
   // The mark is about 16 px across.
   EXPECT_NEAR(2.0 * views[0].radius_px, 15.6, 0.5);
@@ -96,6 +100,11 @@ TEST(CameraRenderer, ThresholdSeparatesMarksFromEverythingElseUnderNoise) {
   const std::vector<ArmPart> arm = {{{609.5, 457.0, 450.0}, {900.0, 457.0, 300.0}, 50.0}};
   std::vector<uint8_t> img;
   const auto views = r.render(herd, arm, img);
+  // Only the marks' antialiased rims lie between the dark lobe (surroundings,
+  // arm, field, bodies) and the marks: nothing else can pass for an object peak.
+  int between = 0;
+  for (const uint8_t g : img) between += (g > 70 && g < 200) ? 1 : 0;
+  EXPECT_LT(between, 100 * static_cast<int>(views.size()));
   // Every pixel fully inside a mark is above 200; everything away from marks is below 150.
   for (int v = 0; v < 482; ++v) {
     for (int u = 0; u < 512; ++u) {
