@@ -37,6 +37,9 @@ bool FieldRules::heading_to_centre(const Sheep& s) const {
 bool FieldRules::needs_saving(const Sheep& s) const {
   if (s.state == SheepState::kDead || !finite_sheep(s)) return false;
   if (heading_to_centre(s)) return false;
+  if (std::hypot(s.x_mm - centre_x_mm(), s.y_mm - centre_y_mm()) < config_.centre_zone_mm) {
+    return false;
+  }
   const double t = time_to_boundary(s);
   return std::isfinite(t) && t <= config_.save_horizon_s;
 }

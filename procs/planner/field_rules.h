@@ -24,8 +24,8 @@ class FieldRules {
   double time_to_boundary(const Sheep& sheep) const;
   // Velocity within heading_to_centre_rad of the direction to the centre.
   bool heading_to_centre(const Sheep& sheep) const;
-  // Alive, moving, not headed toward the centre and leaving within the
-  // save horizon: paper step 1's conditions.
+  // Alive, moving, not headed toward the centre (nor in the centre zone)
+  // and leaving within the save horizon: paper step 1's conditions.
   bool needs_saving(const Sheep& sheep) const;
   // Indices into `sheep` of those that need saving, soonest to leave first.
   std::vector<int> candidates_by_urgency(const std::vector<Sheep>& sheep) const;

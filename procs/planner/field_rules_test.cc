@@ -39,22 +39,24 @@ TEST(FieldRulesTest, HeadingToCentreWithinTheConfiguredAngle) {
 TEST(FieldRulesTest, UsablePointsAvoidTheEdgeAndThePedestal) {
   const FieldRules rules{PlannerConfig{}};
   EXPECT_TRUE(rules.usable_point(100, 100));
-  EXPECT_FALSE(rules.usable_point(10, 100));
-  EXPECT_FALSE(rules.usable_point(1210, 100));
+  EXPECT_FALSE(rules.usable_point(5, 100));  // field margin 10 mm
+  EXPECT_FALSE(rules.usable_point(1215, 100));
   EXPECT_FALSE(rules.usable_point(609.5 + 100, 457));  // within 120 mm of the pedestal axis
   EXPECT_TRUE(rules.usable_point(609.5 + 130, 457));
 }
 
 TEST(FieldRulesTest, OtherSheepNearUsesPredictedPositions) {
-  const FieldRules rules{PlannerConfig{}};  // clearance 160 mm
+  const FieldRules rules{PlannerConfig{}};  // clearance 120 mm
   // Sheep 2 starts 600 mm left of (700, 200) and moves right at 30 mm/s:
-  // within 160 mm from t = 14.7 s to t = 25.3 s.
+  // within 120 mm from t = 16 s to t = 24 s.
   const std::vector<Sheep> all{sheep(1, 500, 500, 0, 0), sheep(2, 100, 200, 30, 0)};
   EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 0.0, 5.0), -1);
-  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 10.0, 15.0), 2);
-  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 26.0, 30.0), -1);
+  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 10.0, 15.9), -1);
+  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 10.0, 16.1), 2);
+  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 23.9, 30.0), 2);
+  EXPECT_EQ(rules.other_sheep_near(all, 1, 700, 200, 24.1, 30.0), -1);
   // The target itself never blocks.
-  EXPECT_EQ(rules.other_sheep_near(all, 2, 700, 200, 10.0, 15.0), -1);
+  EXPECT_EQ(rules.other_sheep_near(all, 2, 700, 200, 10.0, 20.0), -1);
 }
 
 }  // namespace

@@ -71,19 +71,29 @@ struct PlannerConfig {
   geometry::Workcell workcell;
   // An intercept (tool point and sheep centre) must lie this far inside the
   // field edge; a sheep is counted as escaped when its centre crosses it.
-  double field_margin_mm = 25.0;
+  double field_margin_mm = 10.0;
   // The tool is placed this far ahead of the sheep's centre along its path,
   // i.e. just behind its nose (half body length 114.5 mm): early, the sheep
   // walks into the lowered tool; late, the tool still lands on its body.
-  double sheep_lead_mm = 80.0;
+  double sheep_lead_mm = 60.0;
   double sheep_half_length_mm = 114.5;
   double sheep_half_width_mm = 44.5;
   // Another sheep whose predicted centre comes this close to an intercept
   // around the intercept time makes the intercept unusable (paper step 2).
-  double clearance_mm = 160.0;
+  double clearance_mm = 120.0;
+  // When every candidate's intercept lies on another sheep's path, save the
+  // most urgent of them anyway instead of holding while they leave (two
+  // sheep walking side by side would otherwise both escape; a touch only
+  // turns a sheep toward the centre, so landing near a second one is
+  // harmless in the simulator). false = the paper's rule strictly.
+  bool last_resort_on_other_path = true;
   // A sheep whose velocity points within this angle of the field centre is
   // "already headed toward the center" and does not need saving.
   double heading_to_centre_rad = 0.5;
+  // A sheep this close to the field centre does not need saving: turning it
+  // "toward the centre" there gains nothing (it would cross the centre and
+  // be a candidate again at once, starving sheep near the edge).
+  double centre_zone_mm = 150.0;
   // Slower sheep are treated as stationary (never leave).
   double min_sheep_speed_mm_s = 3.0;
   // Only sheep that leave within this time need saving "yet" (paper step 1).
@@ -95,6 +105,10 @@ struct PlannerConfig {
   // of the image (x max, y min in F), pulled in so the PUMA reaches it.
   double park_x_mm = 1219.0 - 60.0;
   double park_y_mm = 60.0;
+  // The way to the park position is sent in legs of at most this length, so
+  // that a sheep needing saving on the way is seen after at most one leg (a
+  // goal cannot be cancelled; the planner waits for its motion_done).
+  double park_leg_mm = 150.0;
   // After reaching the intercept, a re-planned intercept farther than this
   // from the tool means another elevation move instead of lowering.
   double correction_tolerance_mm = 40.0;

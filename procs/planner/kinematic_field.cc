@@ -40,8 +40,9 @@ KinematicField::KinematicField(const KinematicFieldConfig& config,
 
 void KinematicField::spawn_inside(SimSheep& s) {
   const auto& w = config_.workcell;
-  std::uniform_real_distribution<double> ux(200.0, w.field_length_mm - 200.0);
-  std::uniform_real_distribution<double> uy(200.0, w.field_width_mm - 200.0);
+  const double m = config_.start_margin_mm;
+  std::uniform_real_distribution<double> ux(m, w.field_length_mm - m);
+  std::uniform_real_distribution<double> uy(m, w.field_width_mm - m);
   std::uniform_real_distribution<double> uh(-std::numbers::pi, std::numbers::pi);
   std::uniform_real_distribution<double> us(1.0 - config_.sheep_speed_jitter,
                                             1.0 + config_.sheep_speed_jitter);
@@ -61,8 +62,8 @@ void KinematicField::spawn_at_edge(SimSheep& s) {
                                             1.0 + config_.sheep_speed_jitter);
   const double inset = 5.0;
   const int side = static_cast<int>(u01(rng_) * 4.0) % 4;
-  // Away from the corners, heading inwards within 45 degrees of the normal,
-  // so a re-entering sheep does not leave again at once.
+  // Away from the corners, heading inwards, so a re-entering sheep does not
+  // leave again at once.
   const auto along = [&](double length) { return 150.0 + u01(rng_) * (length - 300.0); };
   double inward = 0.0;
   switch (side) {
@@ -88,7 +89,7 @@ void KinematicField::spawn_at_edge(SimSheep& s) {
       break;
   }
   s.id = next_id_++;
-  s.heading = inward + spread(rng_) * std::numbers::pi / 4.0;
+  s.heading = inward + spread(rng_) * config_.entry_angle_rad;
   s.speed = config_.sheep_speed_mm_s * us(rng_);
   s.on_field = true;
 }

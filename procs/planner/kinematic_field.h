@@ -27,10 +27,12 @@ struct KinematicFieldConfig {
   double sheep_speed_jitter = 0.2;  // each sheep's speed is uniform in speed * (1 +- jitter)
   double sheep_half_length_mm = 114.5;
   double sheep_half_width_mm = 44.5;
-  double tool_radius_mm = 10.0;
+  double tool_radius_mm = 15.0;  // as ephor-sim's touch_radius_mm
   double arm_speed_mm_s = 300.0;
   double goal_latency_s = 0.05;  // before the arm starts a goal (comm)
   double respawn_s = 5.0;
+  double entry_angle_rad = 0.8;       // re-entry heading within this of the inward normal
+  double start_margin_mm = 134.5;     // initial sheep this far inside the edges (ephor-sim's rule)
   double start_x_mm = 1219.0 - 60.0;  // the arm starts parked
   double start_y_mm = 60.0;
 };

@@ -8,12 +8,14 @@
 // (move, verify, lower, raise) is the multi-sheep planner's; only the order
 // in which candidates are tried differs.
 //
-// Score, compared in this order: fewer predicted escapes (a sheep in the
-// ordering that cannot be intercepted on the field in time, or a sheep left
-// out that leaves before the ordering is done), then larger minimum slack
-// (time to boundary minus intercept time), then earlier finish.
+// Score of an ordering (followed by the remaining candidates most urgent
+// first), compared in this order: fewer predicted escapes (a sheep that
+// cannot be intercepted on the field by the time the arm is free for it),
+// then less total lateness for those, then larger minimum slack (time to boundary minus intercept
+// time), then earlier finish.
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "procs/planner/multi_sheep_planner.h"
@@ -22,6 +24,7 @@ namespace ephor::planner {
 
 struct OrderingScore {
   int escapes = 0;
+  double lateness_s = 0.0;  // summed over predicted escapes: how late the arm would be
   double min_slack_s = 0.0;
   double finish_s = 0.0;
   // True when this is strictly better than `other`.
@@ -39,7 +42,9 @@ struct LookaheadStats {
 
 class LookaheadPlanner : public MultiSheepPlanner {
  public:
-  explicit LookaheadPlanner(const PlannerConfig& config) : MultiSheepPlanner(config) {}
+  // Monotonic clock in ns for the budget; tests may pass a fake one.
+  using MonoClock = std::function<int64_t()>;
+  explicit LookaheadPlanner(const PlannerConfig& config, MonoClock clock = nullptr);
   std::string kind() const override { return "lookahead"; }
 
   // Searches orderings of the sheep needing saving in `scene`; returns the
@@ -55,6 +60,7 @@ class LookaheadPlanner : public MultiSheepPlanner {
   std::vector<int> candidate_order(const Scene& scene, const std::vector<int>& by_urgency) override;
 
  private:
+  MonoClock clock_;
   LookaheadStats stats_;
 };
 

@@ -11,12 +11,12 @@ Sheep sheep(int id, double x, double y, double vx, double vy) {
   return Sheep{id, x, y, vx, vy, SheepState::kVisible};
 }
 
-// Greedy's mistake: A (right, leaves in 11 s) is more urgent than B (left,
-// leaves in 12 s), but the arm sits next to B. A first: by the time the arm
-// is back on the left, B is gone. B first: both are saved.
-const Sheep kA = sheep(1, 889, 300, 30, 0);
-const Sheep kB = sheep(2, 360, 300, -30, 0);
-constexpr double kArmX = 250;
+// Greedy's mistake: A (right, leaves in 8.0 s) is more urgent than B (left,
+// leaves in 9.2 s), but the arm sits next to B. A first: by the time the
+// arm is back on the left, B is gone. B first: both are saved.
+const Sheep kA = sheep(1, 929, 300, 36, 0);
+const Sheep kB = sheep(2, 330, 300, -36, 0);
+constexpr double kArmX = 150;
 constexpr double kArmY = 300;
 
 int escapes_with(const std::string& kind, double seconds) {
@@ -56,30 +56,49 @@ TEST(LookaheadPlannerTest, SavesTheNearSheepFirstWhereGreedyOrderLosesOne) {
   EXPECT_EQ(multi, 1);
 }
 
-TEST(LookaheadPlannerTest, ReturnsItsBestSoFarWhenTheBudgetEnds) {
-  PlannerConfig config;
-  config.lookahead_depth = 8;
-  config.lookahead_max_candidates = 10;  // 10! / 2! orderings: far more than 5 ms
-  config.lookahead_budget_s = 0.005;
-  LookaheadPlanner planner{config};
+Scene crowded_rim() {
   Scene s;
   s.arm.x_mm = 600;
   s.arm.y_mm = 150;
   for (int i = 0; i < 10; ++i) {
-    // Ten sheep around the rim, each walking outwards.
+    // Ten sheep near the long edges, each walking outwards.
     const double x = 150.0 + 100.0 * i;
     s.sheep.push_back(sheep(i + 1, x, i % 2 ? 750 : 160, 0, i % 2 ? 30.0 : -30.0));
   }
-  const auto goal = planner.plan(s);
+  return s;
+}
+
+PlannerConfig deep_search() {
+  PlannerConfig config;
+  config.lookahead_depth = 8;
+  config.lookahead_max_candidates = 10;  // 10! / 2! orderings: far more than the budget allows
+  config.lookahead_budget_s = 0.005;
+  return config;
+}
+
+// Deterministic: a fake monotonic clock that advances 10 us per reading.
+TEST(LookaheadPlannerTest, StopsAtTheBudgetAndReturnsItsBestSoFar) {
+  int64_t fake_ns = 0;
+  LookaheadPlanner planner{deep_search(), [&fake_ns] { return fake_ns += 10'000; }};
+  const auto goal = planner.plan(crowded_rim());
   ASSERT_TRUE(goal.has_value());
   const LookaheadStats& st = planner.last_stats();
   EXPECT_FALSE(st.exhausted);
-  EXPECT_GT(st.orderings_scored, 1);
+  // One clock reading per ordering: 5 ms / 10 us.
+  EXPECT_EQ(st.orderings_scored, 500);
+  EXPECT_LE(st.elapsed_s, 0.005 + 2e-5);
   EXPECT_EQ(st.best.size(), 8u);
-  // Anytime: stops at the budget (one ordering's scoring past it at most;
-  // slack for a loaded 2-core machine).
-  EXPECT_LT(st.elapsed_s, config.lookahead_budget_s + 0.010);
-  EXPECT_FALSE(st.greedy_score.better_than(st.best_score));
+  EXPECT_FALSE(st.greedy_score.better_than(st.best_score));  // never worse than greedy
+}
+
+// The real clock: returns close to the budget (slack for a shared 2-core
+// machine; the figure itself belongs in a benchmark).
+TEST(LookaheadPlannerTest, ReturnsNearTheBudgetOnTheRealClock) {
+  LookaheadPlanner planner{deep_search()};
+  ASSERT_TRUE(planner.plan(crowded_rim()).has_value());
+  EXPECT_FALSE(planner.last_stats().exhausted);
+  EXPECT_GT(planner.last_stats().orderings_scored, 1);
+  EXPECT_LT(planner.last_stats().elapsed_s, 0.005 + 0.05);
 }
 
 }  // namespace

@@ -1,15 +1,29 @@
 #include "procs/planner/multi_sheep_planner.h"
 
+#include <optional>
+
 namespace ephor::planner {
+
+std::optional<Intercept> MultiSheepPlanner::intercept_for(const ArmModel& arm,
+                                                          const Sheep& sheep) const {
+  // The tool goes just behind the sheep's nose; when that point is already
+  // off the field, onto the sheep's mark instead (still on its body, half a
+  // body length of timing slack either way).
+  std::optional<Intercept> ic;
+  for (const double lead : {config().sheep_lead_mm, 0.0}) {
+    ic = InterceptSolver::solve(arm, sheep, lead, lowering_delay_s(arm), rules().centre_x_mm(),
+                                rules().centre_y_mm());
+    if (ic && rules().intercept_in_field(*ic, sheep)) break;
+  }
+  return ic;
+}
 
 CandidateVerdict MultiSheepPlanner::judge(const Scene& scene, const Sheep& sheep,
                                           Intercept* intercept) const {
   CandidateVerdict v;
   v.sheep_id = sheep.id;
   v.time_to_boundary_s = rules().time_to_boundary(sheep);
-  const auto ic =
-      InterceptSolver::solve(scene.arm, sheep, config().sheep_lead_mm, lowering_delay_s(scene.arm),
-                             rules().centre_x_mm(), rules().centre_y_mm());
+  const std::optional<Intercept> ic = intercept_for(scene.arm, sheep);
   if (!ic) {
     v.verdict = Verdict::kNoIntercept;
     return v;
@@ -19,10 +33,10 @@ CandidateVerdict MultiSheepPlanner::judge(const Scene& scene, const Sheep& sheep
     v.verdict = Verdict::kOutsideField;
     return v;
   }
-  // The tool is coming down from (t - lowering) and stays down until the
-  // touch and the raise.
+  // "If it intercepts the expected location of a second sheep": while the
+  // tool comes down onto the intercept.
   const double from = ic->t_s - scene.arm.lowering_time_s - scene.arm.overhead_s;
-  const double to = ic->t_s + scene.arm.raise_time_s + scene.arm.overhead_s;
+  const double to = ic->t_s;
   v.blocking_sheep = rules().other_sheep_near(scene.sheep, sheep.id, ic->x_mm, ic->y_mm, from, to);
   v.verdict = v.blocking_sheep >= 0 ? Verdict::kOnOtherSheepPath : Verdict::kAccepted;
   return v;
@@ -37,14 +51,19 @@ std::optional<SavePlan> MultiSheepPlanner::choose(const Scene& scene, int* candi
   verdicts_.clear();
   const std::vector<int> by_urgency = rules().candidates_by_urgency(scene.sheep);
   *candidates = static_cast<int>(by_urgency.size());
+  std::optional<SavePlan> last_resort;
   for (int index : candidate_order(scene, by_urgency)) {
     const Sheep& sheep = scene.sheep[static_cast<size_t>(index)];
     Intercept ic;
     const CandidateVerdict v = judge(scene, sheep, &ic);
     verdicts_.push_back(v);
-    if (v.verdict == Verdict::kAccepted) return SavePlan{sheep.id, ic};
+    if (v.verdict == Verdict::kAccepted) return SavePlan{sheep.id, ic, false};
+    if (v.verdict == Verdict::kOnOtherSheepPath && !last_resort &&
+        config().last_resort_on_other_path) {
+      last_resort = SavePlan{sheep.id, ic, true};
+    }
   }
-  return std::nullopt;
+  return last_resort;
 }
 
 }  // namespace ephor::planner

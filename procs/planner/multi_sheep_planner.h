@@ -36,6 +36,9 @@ class MultiSheepPlanner : public SaveCyclePlanner {
   // The candidates examined by the last choice, in the order examined.
   const std::vector<CandidateVerdict>& last_verdicts() const { return verdicts_; }
 
+  // Step 2's intercept for one sheep (from the elevation plane, with the
+  // lowering delay); may lie outside the field.
+  std::optional<Intercept> intercept_for(const ArmModel& arm, const Sheep& sheep) const;
   // Step 2 for one sheep: the intercept and whether it is usable.
   CandidateVerdict judge(const Scene& scene, const Sheep& sheep, Intercept* intercept) const;
 

@@ -95,21 +95,43 @@ TEST(MultiSheepPlannerTest, ParksAtTheLowerRightCornerWhenNobodyNeedsSaving) {
   const PlannerConfig config;
   MultiSheepPlanner planner{config};
   const Sheep resting = sheep(3, 900, 700, 0, 0);
-  const auto goal =
-      planner.plan(make_scene({to_centre(1, 300, 600), to_centre(2, 1000, 200), resting}));
-  ASSERT_TRUE(goal.has_value());
-  EXPECT_EQ(goal->target, -1);
-  EXPECT_EQ(goal->plane, Plane::kElevation);
-  EXPECT_DOUBLE_EQ(goal->x_mm, config.park_x_mm);
-  EXPECT_DOUBLE_EQ(goal->y_mm, config.park_y_mm);
-  EXPECT_GT(goal->x_mm, kCx);  // right
-  EXPECT_LT(goal->y_mm, kCy);  // lower in the image (y up)
-  EXPECT_EQ(planner.status().phase, "parking");
-  EXPECT_TRUE(planner.on_motion_done(goal->goal_id, true));
-  const auto next =
-      planner.plan(make_scene({to_centre(1, 290, 595)}, config.park_x_mm, config.park_y_mm, 3.0));
-  EXPECT_FALSE(next.has_value());
+  const Sheep near_centre = sheep(4, kCx + 50, kCy, 30, 0);  // in the centre zone
+  const std::vector<Sheep> calm{to_centre(1, 300, 600), to_centre(2, 1000, 200), resting,
+                                near_centre};
+  double x = 600;
+  double y = 150;
+  double now = 0.0;
+  // The arm goes to the corner in legs of at most park_leg_mm.
+  int legs = 0;
+  for (; legs < 20; ++legs) {
+    const auto goal = planner.plan(make_scene(calm, x, y, now));
+    if (!goal) break;
+    EXPECT_EQ(goal->target, -1);
+    EXPECT_EQ(goal->plane, Plane::kElevation);
+    EXPECT_EQ(planner.status().phase, "parking");
+    EXPECT_LE(std::hypot(goal->x_mm - x, goal->y_mm - y), config.park_leg_mm + 1e-9);
+    ASSERT_TRUE(planner.on_motion_done(goal->goal_id, true));
+    x = goal->x_mm;
+    y = goal->y_mm;
+    now += 0.6;
+  }
+  EXPECT_EQ(legs, 4);  // 567 mm from (600, 150) to (1159, 60)
+  EXPECT_DOUBLE_EQ(x, config.park_x_mm);
+  EXPECT_DOUBLE_EQ(y, config.park_y_mm);
+  EXPECT_GT(x, kCx);  // right
+  EXPECT_LT(y, kCy);  // lower in the image (y up)
   EXPECT_EQ(planner.status().phase, "parked");
+}
+
+TEST(MultiSheepPlannerTest, ASheepNeedingSavingInterruptsTheWayToThePark) {
+  MultiSheepPlanner planner{PlannerConfig{}};
+  const auto leg = planner.plan(make_scene({to_centre(1, 300, 600)}, 100, 800));
+  ASSERT_TRUE(leg.has_value());
+  EXPECT_EQ(planner.status().phase, "parking");
+  ASSERT_TRUE(planner.on_motion_done(leg->goal_id, true));
+  const auto save = planner.plan(make_scene({kA}, leg->x_mm, leg->y_mm, 0.6));
+  ASSERT_TRUE(save.has_value());
+  EXPECT_EQ(save->target, 1);
 }
 
 TEST(MultiSheepPlannerTest, KeepsOneGoalOutstandingAndReplansAfterAFailedGoal) {

@@ -131,14 +131,11 @@ std::optional<Goal> SaveCyclePlanner::step(const Scene& scene) {
         if (done && target_saved_ && parks_after_save()) {
           target_saved_ = false;
           target_ = -1;
-          return send(scene, Plane::kElevation, config().park_x_mm, config().park_y_mm,
-                      std::atan2(rules_.centre_y_mm() - config().park_y_mm,
-                                 rules_.centre_x_mm() - config().park_x_mm),
-                      -1, Phase::kParking);
+          return park(scene);
         }
         break;
       case Phase::kParking:
-        set_phase(done ? Phase::kParked : Phase::kChoosing);
+        set_phase(Phase::kChoosing);  // the next leg, or a sheep to save
         break;
       default:
         set_phase(Phase::kChoosing);
@@ -173,6 +170,7 @@ std::optional<Goal> SaveCyclePlanner::start_over(const Scene& scene) {
   if (chosen) {
     target_ = chosen->target;
     intercept_ = chosen->intercept;
+    ignores_other_sheep_ = chosen->ignores_other_sheep;
     status_.target = target_;
     status_.intercept_x_mm = intercept_.x_mm;
     status_.intercept_y_mm = intercept_.y_mm;
@@ -186,13 +184,20 @@ std::optional<Goal> SaveCyclePlanner::start_over(const Scene& scene) {
     return std::nullopt;
   }
   // Nobody needs saving: keep the arm out of the camera's way.
+  return park(scene);
+}
+
+std::optional<Goal> SaveCyclePlanner::park(const Scene& scene) {
   const double px = config().park_x_mm;
   const double py = config().park_y_mm;
-  if (std::hypot(scene.arm.x_mm - px, scene.arm.y_mm - py) <= 15.0) {
+  const double dist = std::hypot(px - scene.arm.x_mm, py - scene.arm.y_mm);
+  if (dist <= 15.0) {
     set_phase(Phase::kParked);
     return std::nullopt;
   }
-  return send(scene, Plane::kElevation, px, py,
+  const double leg = std::min(1.0, std::max(config().park_leg_mm, 1.0) / dist);
+  return send(scene, Plane::kElevation, scene.arm.x_mm + leg * (px - scene.arm.x_mm),
+              scene.arm.y_mm + leg * (py - scene.arm.y_mm),
               std::atan2(rules_.centre_y_mm() - py, rules_.centre_x_mm() - px), -1,
               Phase::kParking);
 }
@@ -245,7 +250,7 @@ std::optional<Goal> SaveCyclePlanner::verify(const Scene& scene) {
     lower_at = ic;
   }
   // Step 3's re-check: no other sheep under the arm while it is down.
-  if (checks_other_sheep() &&
+  if (checks_other_sheep() && !ignores_other_sheep_ &&
       rules_.other_sheep_near(scene.sheep, target_, lower_at->x_mm, lower_at->y_mm, 0.0,
                               lower_at->t_s + scene.arm.raise_time_s) >= 0) {
     return start_over(scene);

@@ -31,6 +31,7 @@ namespace ephor::planner {
 struct SavePlan {
   int target = -1;
   Intercept intercept;
+  bool ignores_other_sheep = false;  // chosen as a last resort despite another sheep's path
 };
 
 class SaveCyclePlanner : public Planner {
@@ -83,6 +84,8 @@ class SaveCyclePlanner : public Planner {
   std::optional<Goal> send(const Scene& scene, Plane plane, double x_mm, double y_mm,
                            double theta_rad, int target, Phase next);
   std::optional<Goal> raise(const Scene& scene);
+  // The next leg towards the park position (lower-right corner).
+  std::optional<Goal> park(const Scene& scene);
   const Sheep* find_target(const Scene& scene) const;
   void set_phase(Phase phase);
 
@@ -104,6 +107,7 @@ class SaveCyclePlanner : public Planner {
   int raise_failures_ = 0;
   double turn_deadline_s_ = 0.0;
   bool target_saved_ = false;
+  bool ignores_other_sheep_ = false;
 };
 
 }  // namespace ephor::planner

@@ -59,8 +59,11 @@ TEST(SingleSheepPlannerTest, WaitsAtTheBoundaryTurnsTheSheepThenParks) {
   ASSERT_TRUE(planner.on_motion_done(raise->goal_id, true));
   const auto park = planner.plan(make_scene({turned}, raise->x_mm, raise->y_mm, 13.0, false));
   ASSERT_TRUE(park.has_value());
-  EXPECT_DOUBLE_EQ(park->x_mm, config.park_x_mm);
-  EXPECT_DOUBLE_EQ(park->y_mm, config.park_y_mm);
+  EXPECT_EQ(planner.status().phase, "parking");
+  EXPECT_EQ(park->target, -1);
+  // The first leg heads for the lower-right corner.
+  const double to_park = std::atan2(config.park_y_mm - raise->y_mm, config.park_x_mm - raise->x_mm);
+  EXPECT_NEAR(std::atan2(park->y_mm - raise->y_mm, park->x_mm - raise->x_mm), to_park, 1e-9);
 }
 
 TEST(SingleSheepPlannerTest, KeepsOneSheepOnTheFieldInTheKinematicStandIn) {
