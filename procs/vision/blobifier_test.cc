@@ -158,6 +158,18 @@ TEST(BlobifierTest, BuffersAreReusedWithoutLeakingPreviousFrame) {
   EXPECT_EQ(blobs[0].area, 36);
 }
 
+TEST(BlobifierTest, FrameStampWrapAroundDoesNotHideBlobs) {
+  // Marks are stamped per frame in 16 bits; after 65535 frames the stamp
+  // wraps and the marks are cleared once.
+  SyntheticImage img(16, 16, 0.0f);
+  img.add_rect(4, 4, 7, 7, 200.0f);
+  const ImageView view = img.render();
+  Blobifier b(with_k(4, 1));
+  for (int i = 0; i < 70000; ++i) {
+    if (b.blobify(view, kThr, ScanMode::kFull).size() != 1u) FAIL() << "frame " << i;
+  }
+}
+
 TEST(BlobifierTest, HonoursStrideLargerThanWidth) {
   // A 20 x 10 window at column 8 of a 64-wide buffer.
   std::vector<uint8_t> buf(64 * 10, 0);

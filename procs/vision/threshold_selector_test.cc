@@ -99,6 +99,19 @@ TEST(ThresholdSelectorTest, FromANoisyFrameWithSixMarks) {
   EXPECT_NEAR(c.threshold, 176, 2);
 }
 
+TEST(ThresholdSelectorTest, UnevenLightingWidensTheFieldLobeOnly) {
+  // The field brightens from grey 30 at the left to 70 at the right.
+  std::mt19937 rng(13);
+  SyntheticImage img(512, 482, 40.0f);
+  for (int u = 0; u < 512; ++u) img.add_rect(u, 0, u, 481, 30.0f + 40.0f * u / 511.0f);
+  for (int i = 0; i < 6; ++i) img.add_disc(60.0 + 70.0 * i, 100.0 + 40.0 * i, 8.0, 210.0f);
+  const ThresholdChoice c = ThresholdSelector().select(img.render(4.0, rng));
+  ASSERT_EQ(c.status, ThresholdStatus::kOk) << c.message;
+  EXPECT_NEAR(c.object_peak, 210, 2);
+  EXPECT_GT(c.threshold, 80);  // above the brightest field pixels
+  EXPECT_LT(c.threshold, 210);
+}
+
 TEST(ThresholdSelectorTest, RejectsBadConfig) {
   ThresholdSelectorConfig c;
   c.fraction = 1.0;
