@@ -49,6 +49,14 @@ void validate_and_fill(config::Manifest& m, const TextProto& src) {
     hosts.insert("local");
   }
 
+  std::set<std::string> params;
+  for (int i = 0; i < m.param_size(); ++i) {
+    const std::string field = "param[" + std::to_string(i) + "]";
+    if (!std::regex_match(m.param(i).name(), std::regex("[a-z][a-z0-9_-]*")))
+      src.fail(field + ".name", "missing or not a lower-case name");
+    if (!params.insert(m.param(i).name()).second) src.fail(field + ".name", "duplicate parameter '" + m.param(i).name() + "'");
+  }
+
   std::set<std::string> processes;
   for (int p = 0; p < m.process_size(); ++p) {
     auto* proc = m.mutable_process(p);
@@ -58,6 +66,13 @@ void validate_and_fill(config::Manifest& m, const TextProto& src) {
     if (proc->exec().empty()) src.fail(pf + ".exec", "missing: which binary runs process '" + proc->name() + "'");
     if (proc->host().empty()) proc->set_host(m.host(0).name());
     if (!hosts.count(proc->host())) src.fail(pf + ".host", "unknown host '" + proc->host() + "' (declare it in a host { } block)");
+    for (int a = 0; a < proc->args_size(); ++a) {
+      static const std::regex kRef("\\$\\{([^}]*)\\}");
+      const std::string& arg = proc->args(a);
+      for (auto it = std::sregex_iterator(arg.begin(), arg.end(), kRef); it != std::sregex_iterator(); ++it)
+        if (!params.count((*it)[1].str()))
+          src.fail(pf + ".args[" + std::to_string(a) + "]", "refers to undeclared parameter '" + (*it)[1].str() + "'");
+    }
 
     std::set<std::string> tasks;
     for (int t = 0; t < proc->task_size(); ++t) {
@@ -109,6 +124,27 @@ std::string manifest_lcm_url(const config::Manifest& m) {
 std::vector<std::string> manifest_hosts(const config::Manifest& m) {
   std::vector<std::string> out;
   for (const auto& h : m.host()) out.push_back(h.name());
+  return out;
+}
+
+std::vector<std::string> expand_args(const config::Process& process, const std::map<std::string, std::string>& values) {
+  static const std::regex kRef("\\$\\{([^}]*)\\}");
+  std::vector<std::string> out;
+  for (const std::string& arg : process.args()) {
+    std::string result;
+    bool empty_param = false;
+    auto last = arg.cbegin();
+    for (auto it = std::sregex_iterator(arg.begin(), arg.end(), kRef); it != std::sregex_iterator(); ++it) {
+      result.append(last, arg.cbegin() + it->position());
+      auto v = values.find((*it)[1].str());
+      const std::string value = v == values.end() ? "" : v->second;
+      empty_param = empty_param || value.empty();
+      result += value;
+      last = arg.cbegin() + it->position() + it->length();
+    }
+    result.append(last, arg.cend());
+    if (!empty_param) out.push_back(result);
+  }
   return out;
 }
 

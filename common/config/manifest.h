@@ -1,6 +1,7 @@
 #pragma once
 // The deployment manifest (manifest.proto): loading, validation and defaults.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ std::string manifest_lcm_url(const config::Manifest& manifest);
 
 // Host names in manifest order.
 std::vector<std::string> manifest_hosts(const config::Manifest& manifest);
+
+// The process's args with ${param} replaced from `values` (parameter name ->
+// value); an arg that refers to an empty or missing parameter is dropped.
+std::vector<std::string> expand_args(const config::Process& process, const std::map<std::string, std::string>& values);
 
 // -1 for "auto" / "", else the CPU index (validated on load).
 int task_cpu(const config::Task& task);

@@ -89,6 +89,19 @@ TEST(Manifest, RejectsBadValues) {
   EXPECT_NE(error_of(R"pb(process { name: "a" exec: "b" })pb"), "");
 }
 
+TEST(Manifest, ParametersExpandInArgsAndEmptyOnesDropTheArg) {
+  const auto m = parse_manifest(R"pb(
+    name: "x"
+    param { name: "seed" default_value: "1" }
+    param { name: "summary" }
+    process { name: "a" exec: "b" args: ["--seed=${seed}", "--summary=${summary}", "plain", "${seed}x${seed}"] }
+  )pb", "x");
+  EXPECT_EQ(expand_args(m.process(0), {{"seed", "7"}, {"summary", ""}}),
+            (std::vector<std::string>{"--seed=7", "plain", "7x7"}));
+  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" args: ["--n=${nope}"] })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x" param { name: "Bad Name" })pb"), "");
+}
+
 TEST(Manifest, MissingFileIsNamed) {
   try {
     load_manifest("/nonexistent/m.pbtxt");

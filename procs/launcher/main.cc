@@ -1,7 +1,10 @@
 // ephor-launch: starts a deployment manifest on this machine.
 //
-//   ephor-launch deploy/shepherd.pbtxt [--duration S] [--host NAME]
-//                [--arg PROCESS=ARG ...]
+//   ephor-launch deploy/shepherd.pbtxt [--duration S] [--host NAME] [--headless]
+//                [--arg PROCESS=ARG ...] [--PARAM VALUE ...]
+//
+// --PARAM VALUE sets a parameter the manifest declares (param { name: ... }),
+// e.g. --seed 7 --sheep 4 --summary out.json for deploy/shepherd.pbtxt.
 //
 // Starts one ephor-scheduler per host named by the selected processes (first),
 // then every process of the manifest (or of --host only), prefixes their
@@ -59,12 +62,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> extra_args;
   int grace_ms = 3000;
   bool no_scheduler = false;
+  bool headless = false;
   app.add_option("manifest", manifest_path, "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")->required();
   app.add_option("--duration", duration_s, "stop everything after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
   app.add_option("--host", only_host, "start only the processes of this host (default: all hosts, here)");
   app.add_option("--arg", extra_args, "PROCESS=ARG: append ARG to PROCESS's command line (repeatable)");
   app.add_option("--grace-ms", grace_ms, "time between SIGTERM and SIGKILL when stopping")->check(CLI::NonNegativeNumber);
   app.add_flag("--no-scheduler", no_scheduler, "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
+  app.add_flag("--headless", headless, "do not start user-interface processes (gui: true)");
+  app.allow_extras();
+  app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
   CLI11_PARSE(app, argc, argv);
 
   config::Manifest manifest;
@@ -73,6 +80,34 @@ int main(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "[launch] bad manifest: %s\n", e.what());
     return 2;
+  }
+
+  // Manifest parameters: defaults, then --NAME VALUE / --NAME=VALUE.
+  std::map<std::string, std::string> params;
+  for (const auto& p : manifest.param()) params[p.name()] = p.default_value();
+  const auto rest = app.remaining();
+  for (size_t i = 0; i < rest.size(); ++i) {
+    std::string name = rest[i];
+    std::string value;
+    if (name.rfind("--", 0) != 0) {
+      std::fprintf(stderr, "[launch] unexpected argument '%s'\n", name.c_str());
+      return 2;
+    }
+    name = name.substr(2);
+    if (const auto eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    } else if (i + 1 < rest.size()) {
+      value = rest[++i];
+    }
+    if (!params.count(name)) {
+      std::string known;
+      for (const auto& [k, _] : params) known += " --" + k;
+      std::fprintf(stderr, "[launch] unknown option --%s (parameters of %s:%s)\n", name.c_str(),
+                   manifest_path.c_str(), known.empty() ? " none" : known.c_str());
+      return 2;
+    }
+    params[name] = value;
   }
 
   std::map<std::string, std::vector<std::string>> more_args;
@@ -103,8 +138,11 @@ int main(int argc, char** argv) {
 
   std::vector<ProcessSpec> specs;
   std::set<std::string> hosts;
+  auto selected = [&](const config::Process& p) {
+    return (only_host.empty() || p.host() == only_host) && !(headless && p.gui());
+  };
   for (const auto& p : manifest.process())
-    if (only_host.empty() || p.host() == only_host) hosts.insert(p.host());
+    if (selected(p)) hosts.insert(p.host());
   auto base_env = [&](const std::string& name, const std::string& host) {
     return std::vector<std::pair<std::string, std::string>>{{"EPHOR_LAUNCHED", "1"},
                                                             {"EPHOR_PROCESS", name},
@@ -121,9 +159,9 @@ int main(int argc, char** argv) {
     }
   }
   for (const auto& p : manifest.process()) {
-    if (!only_host.empty() && p.host() != only_host) continue;
-    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), {p.args().begin(), p.args().end()},
-                  base_env(p.name(), p.host()), p.allow_exit()};
+    if (!selected(p)) continue;
+    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), expand_args(p, params), base_env(p.name(), p.host()),
+                  p.allow_exit()};
     for (const auto& a : more_args[p.name()]) s.args.push_back(a);
     if (s.path.empty()) {
       std::fprintf(stderr, "[launch] cannot start %s: executable '%s' not found in %s or $PATH (built? try: tools/ephor build)\n",

@@ -1,5 +1,6 @@
 #include "tests/integration/harness.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -68,7 +69,13 @@ Processes::~Processes() { stop_all(); }
 void Processes::start(const std::string& name, const std::string& exec, const std::vector<std::string>& args,
                       const std::vector<std::pair<std::string, std::string>>& env) {
   std::lock_guard<std::mutex> lock(mutex_);
-  group_->start({name, exec, args, env, false});
+  pids_[name] = group_->start({name, exec, args, env, false});
+}
+
+void Processes::signal(const std::string& name, int sig) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = pids_.find(name);
+  if (it != pids_.end()) kill(it->second, sig);
 }
 
 std::vector<std::string> Processes::lines(const std::string& name) const {

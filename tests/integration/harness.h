@@ -41,6 +41,8 @@ class Processes {
   bool has_line(const std::string& name, const std::string& text) const;
   // Exits observed so far.
   std::vector<launcher::ExitInfo> exits() const;
+  // Sends `sig` to the process started as `name`.
+  void signal(const std::string& name, int sig);
   void stop_all();
 
  private:
@@ -48,6 +50,7 @@ class Processes {
   std::unique_ptr<launcher::ProcessGroup> group_;
   std::map<std::string, std::vector<std::string>> lines_;
   std::vector<launcher::ExitInfo> exits_;
+  std::map<std::string, int> pids_;
   bool running_ = true;
   std::thread poller_;
 };
