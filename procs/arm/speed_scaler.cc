@@ -70,7 +70,8 @@ ScaledTrajectory SpeedScaler::scale(const TimedPath& path, double nominal_durati
   for (int pass = 0; pass < config_.max_passes; ++pass) {
     result = sample(path, nominal_duration_s, start, stretch);
     if (!result.ok || nominal_duration_s <= 0.0) return result;
-    const double need = std::max({result.velocity_ratio, std::sqrt(result.acceleration_ratio),
+    const double need = std::max({result.velocity_ratio / config_.limit_fraction,
+                                  std::sqrt(result.acceleration_ratio / config_.limit_fraction),
                                   result.peak_tool_speed_mm_s / config_.max_tool_speed_mm_s});
     if (need <= 1.0) return result;
     stretch *= std::max(need / config_.target_ratio, 1.01);

@@ -28,7 +28,10 @@ using TimedPath = std::function<std::optional<Joints>(double t_nominal_s, const 
 struct ScalingConfig {
   double sample_period_s = 0.01;       // servo point spacing, s
   double max_tool_speed_mm_s = 300.0;  // cap on the tool-tip speed, mm/s
-  double target_ratio = 0.98;          // aim this far below each limit when scaling down
+  // Fraction of the model's joint limits the motion may use: headroom for the
+  // servo's interpolation between points and for its own limit checks.
+  double limit_fraction = 0.95;
+  double target_ratio = 0.98;  // aim this far below each (reduced) limit when scaling down
   int max_passes = 8;
   double max_stretch = 200.0;  // beyond this the motion is refused (singularity)
 };

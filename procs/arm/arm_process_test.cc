@@ -1,0 +1,191 @@
+// Integration test of ephor-arm with ephor-sim as its servo layer, both real
+// processes in a private network namespace (NETNS). The test plays the
+// communication process ("comm"): a valid command is executed once and
+// acknowledged ACCEPTED then DONE with the tool at the target; a repeated seq
+// is answered again without a second motion; malformed, out-of-range, stale
+// and foreign commands are refused and the arm does not move.
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "common/geometry/overhead_camera.h"
+#include "common/geometry/workcell.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/time/clock.h"
+#include "ephor/arm_ack_t.hpp"
+#include "ephor/arm_cmd_t.hpp"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/joint_trajectory_t.hpp"
+#include "tests/integration/harness.h"
+
+namespace ephor::arm {
+namespace {
+
+using namespace std::chrono_literals;
+using ephor::testing::wait_until;
+
+struct Seen {
+  std::mutex mutex;
+  std::vector<arm_ack_t> acks;
+  std::optional<arm_state_t> state;
+  int64_t states = 0;
+  int64_t trajectories = 0;
+};
+
+class ArmProcessTest : public ::testing::Test {
+ protected:
+  template <class F>
+  auto locked(F f) {
+    std::lock_guard<std::mutex> lock(seen_.mutex);
+    return f();
+  }
+  void SetUp() override {
+    procs_.start("sim", ephor::testing::bin("ephor-sim"), {"--sheep", "0", "--no-mlock"});
+    procs_.start("arm", ephor::testing::bin("ephor-arm"), {"--no-mlock"});
+    bus_.subscribe<arm_ack_t>(channels::kArmAck, [this](const arm_ack_t& m) {
+      std::lock_guard<std::mutex> lock(seen_.mutex);
+      seen_.acks.push_back(m);
+    });
+    bus_.subscribe<arm_state_t>(channels::kArmState, [this](const arm_state_t& m) {
+      std::lock_guard<std::mutex> lock(seen_.mutex);
+      seen_.state = m;
+      ++seen_.states;
+    });
+    bus_.subscribe<joint_trajectory_t>(channels::kArmTrajectory, [this](const joint_trajectory_t&) {
+      std::lock_guard<std::mutex> lock(seen_.mutex);
+      ++seen_.trajectories;
+    });
+    bus_.start();
+    ASSERT_TRUE(wait_until([this] { return locked([this] { return seen_.states > 10; }); }, 20s))
+        << "no ARM_STATE from ephor-arm";
+  }
+  void TearDown() override {
+    if (HasFailure()) {
+      for (const char* name : {"arm", "sim"})
+        for (const auto& line : procs_.lines(name)) std::cerr << name << ": " << line << "\n";
+    }
+    bus_.stop();
+    procs_.stop_all();
+  }
+
+  arm_cmd_t command_at(int64_t seq, double x, double y, int8_t plane) const {
+    const double z =
+        plane == arm_goal_t::PLANE_OBJECT ? cell_.object_plane_z_mm : cell_.elevation_plane_z_mm;
+    const Eigen::Vector2d uv = camera_.project(x, y, z);
+    arm_cmd_t c;
+    c.utime = wall_us();
+    c.seq = seq;
+    c.goal_id = seq * 10;
+    c.plane = plane;
+    c.u = static_cast<float>(uv.x());
+    c.v = static_cast<float>(uv.y());
+    c.theta_rad = 0.0f;
+    c.max_speed_mm_s = 0.0f;
+    return c;
+  }
+  std::optional<arm_ack_t> ack_for(int64_t seq, int8_t status) {
+    return locked([&]() -> std::optional<arm_ack_t> {
+      for (const auto& a : seen_.acks)
+        if (a.seq == seq && a.status == status) return a;
+      return std::nullopt;
+    });
+  }
+  int count_acks(int64_t seq) {
+    return locked([&] {
+      int n = 0;
+      for (const auto& a : seen_.acks) n += a.seq == seq;
+      return n;
+    });
+  }
+  std::vector<double> joints() {
+    return locked([&] { return std::vector<double>(seen_.state->q, seen_.state->q + 6); });
+  }
+
+  geometry::Workcell cell_;
+  geometry::OverheadCamera camera_;
+  ephor::testing::Processes procs_;
+  Bus bus_{"", "comm"};
+  Seen seen_;
+};
+
+TEST_F(ArmProcessTest, ExecutesACommandOnceAndReportsDoneAtTheTarget) {
+  arm_cmd_t cmd = command_at(1, 1000.0, 700.0, arm_goal_t::PLANE_ELEVATION);
+  bus_.publish(channels::kArmCmd, cmd);
+  ASSERT_TRUE(wait_until([&] { return ack_for(1, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
+  EXPECT_GT(ack_for(1, arm_ack_t::STATUS_ACCEPTED)->planned_duration_s, 0.0f);
+  ASSERT_TRUE(wait_until([&] { return ack_for(1, arm_ack_t::STATUS_DONE).has_value(); }, 20s))
+      << "acks: " << count_acks(1);
+  ASSERT_TRUE(wait_until([&] { return locked([&] { return !seen_.state->moving; }); }, 2s));
+  locked([&] {
+    EXPECT_NEAR(seen_.state->x_mm, 1000.0f, 2.0f);
+    EXPECT_NEAR(seen_.state->y_mm, 700.0f, 2.0f);
+    EXPECT_NEAR(seen_.state->z_mm, 200.0f, 2.0f);
+    EXPECT_NEAR(seen_.state->u, cmd.u, 1.0f);
+    EXPECT_NEAR(seen_.state->v, cmd.v, 1.0f);
+    EXPECT_EQ(seen_.state->last_done_seq, 1);
+    EXPECT_EQ(seen_.state->plane, int8_t{arm_goal_t::PLANE_ELEVATION});
+    return 0;
+  });
+  const int64_t trajectories = locked([&] { return seen_.trajectories; });
+  // The communication process retransmits: the same command again.
+  bus_.publish(channels::kArmCmd, cmd);
+  ASSERT_TRUE(wait_until([&] { return count_acks(1) >= 3; }, 5s));
+  EXPECT_EQ(locked([&] { return seen_.acks.back().status; }), int8_t{arm_ack_t::STATUS_DONE});
+  EXPECT_EQ(locked([&] { return seen_.trajectories; }), trajectories);
+}
+
+TEST_F(ArmProcessTest, RefusesBadCommandsAndDoesNotMove) {
+  const std::vector<double> before = joints();
+  const int64_t trajectories = locked([&] { return seen_.trajectories; });
+
+  arm_cmd_t nan_cmd = command_at(11, 1000.0, 200.0, arm_goal_t::PLANE_OBJECT);
+  nan_cmd.u = std::numeric_limits<float>::quiet_NaN();
+  arm_cmd_t plane_cmd = command_at(12, 1000.0, 200.0, 9);
+  arm_cmd_t outside_cmd =
+      command_at(13, cell_.field_length_mm + 40.0, 200.0, arm_goal_t::PLANE_OBJECT);
+  arm_cmd_t stale_cmd = command_at(14, 1000.0, 200.0, arm_goal_t::PLANE_OBJECT);
+  stale_cmd.utime -= 2'000'000;
+  arm_cmd_t fast_cmd = command_at(15, 1000.0, 200.0, arm_goal_t::PLANE_OBJECT);
+  fast_cmd.max_speed_mm_s = 5000.0f;
+  arm_cmd_t centre_cmd =
+      command_at(16, cell_.base_x_mm + 20.0, cell_.base_y_mm, arm_goal_t::PLANE_OBJECT);
+  for (arm_cmd_t* c : {&nan_cmd, &plane_cmd, &outside_cmd, &stale_cmd, &fast_cmd, &centre_cmd})
+    bus_.publish(channels::kArmCmd, *c);
+  // A sender other than comm is not even answered.
+  Bus intruder("", "intruder");
+  arm_cmd_t foreign = command_at(17, 1000.0, 200.0, arm_goal_t::PLANE_OBJECT);
+  intruder.publish(channels::kArmCmd, foreign);
+
+  const std::vector<std::pair<int64_t, std::string>> expected = {
+      {11, "not finite"}, {12, "unknown plane 9"},     {13, "outside the"},
+      {14, "stale"},      {15, "above the arm's cap"}, {16, "reach"}};
+  for (const auto& [seq, words] : expected) {
+    ASSERT_TRUE(
+        wait_until([&] { return ack_for(seq, arm_ack_t::STATUS_REJECTED).has_value(); }, 5s))
+        << "no REJECTED for seq " << seq;
+    const std::string reason = ack_for(seq, arm_ack_t::STATUS_REJECTED)->reason;
+    EXPECT_NE(reason.find(words), std::string::npos) << "seq " << seq << ": " << reason;
+  }
+  // The state task runs every 10 ms: a few more states, still where it was.
+  const int64_t states = locked([&] { return seen_.states; });
+  ASSERT_TRUE(wait_until([&] { return locked([&] { return seen_.states > states + 20; }); }, 5s));
+  const std::vector<double> after = joints();
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(after[static_cast<std::size_t>(i)], before[static_cast<std::size_t>(i)], 1e-6);
+  EXPECT_EQ(locked([&] { return seen_.trajectories; }), trajectories);
+  EXPECT_EQ(count_acks(17), 0);
+  for (int64_t seq : {11, 12, 13, 14, 15, 16}) EXPECT_EQ(count_acks(seq), 1);
+}
+
+}  // namespace
+}  // namespace ephor::arm
