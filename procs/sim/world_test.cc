@@ -17,6 +17,7 @@ WorldConfig empty_field() {
   return c;
 }
 
+const SheepState* find(const std::vector<SheepState>&& all, int32_t id) = delete;  // dangling
 const SheepState* find(const std::vector<SheepState>& all, int32_t id) {
   for (const auto& s : all)
     if (s.id == id) return &s;
@@ -70,7 +71,8 @@ TEST(World, WanderBendsThePathSlowly) {
   World world(c);
   const int32_t id = world.add_sheep(300, 457, 0.0, 30.0);
   for (int i = 0; i < 500; ++i) world.step(0.01);
-  const SheepState* s = find(world.sheep(), id);
+  const auto herd = world.sheep();
+  const SheepState* s = find(herd, id);
   ASSERT_NE(s, nullptr);
   EXPECT_GT(std::abs(s->centre_mm.y() - 457.0), 0.01) << "no wander at all";
   EXPECT_LT(std::abs(s->heading_rad()), 1.0) << "wander is not slow";
@@ -161,7 +163,8 @@ TEST(World, LoweredToolTurnsTheSheepTowardTheCentre) {
   EXPECT_EQ(world.saves(), 1) << "a touch counts once";
   world.set_tool_tip(Eigen::Vector3d(280, 210, cell.elevation_plane_z_mm));
   world.step(0.01);
-  const SheepState* s = find(world.sheep(), id);
+  const auto herd = world.sheep();
+  const SheepState* s = find(herd, id);
   ASSERT_NE(s, nullptr);
   const double to_centre =
       std::atan2(cell.centre_y_mm() - s->centre_mm.y(), cell.centre_x_mm() - s->centre_mm.x());
