@@ -21,9 +21,10 @@ struct ImageView {
   uint8_t at(int u, int v) const { return data[static_cast<std::ptrdiff_t>(v) * stride + u]; }
 };
 
-// Largest width or height the vision library accepts (pixel coordinates are
-// packed into 16 bits in the fill stack).
-inline constexpr int kMaxImageDim = 8192;
+// Largest width or height the vision library accepts: pixel coordinates are
+// packed into 16 bits in the fill stack, and it bounds the buffers a single
+// consistent-but-absurd frame can make the Blobifier allocate (~100 MB).
+inline constexpr int kMaxImageDim = 4096;
 
 // "" when `image` can be searched, else a message naming the problem
 // (null data, non-positive or too large dimensions, stride < width).
