@@ -1,0 +1,288 @@
+// ephor-planner: the shepherd's executive (paper 003, section 3.4). Keeps the
+// newest OBJECTS and ARM_STATE, runs one planning job (triggered task "plan")
+// per objects update and per motion_done, and sends at most one ARM_GOAL at
+// a time, in image coordinates as the paper's planner did. Reports what it
+// is doing on PLANNER_STATUS every job.
+//
+//   ephor-planner [--planner single|multi|lookahead] [--arm-speed-mm-s S]
+//                 [--calibration FILE] [process flags]
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/calibration/field_calibration.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/motion_done_t.hpp"
+#include "ephor/object_t.hpp"
+#include "ephor/objects_t.hpp"
+#include "ephor/planner_status_t.hpp"
+#include "procs/planner/planner.h"
+
+namespace {
+
+using ephor::calibration::FieldCalibration;
+namespace planner = ephor::planner;
+
+// The repository: $EPHOR_SOURCE_DIR, else two levels above this executable
+// (build/bin/ephor-planner).
+std::filesystem::path repo_dir() {
+  if (const char* env = std::getenv("EPHOR_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return ".";
+  return exe.parent_path().parent_path().parent_path();
+}
+
+ephor::calibration::Plane to_calibration_plane(planner::Plane p) {
+  return p == planner::Plane::kObject ? ephor::calibration::Plane::kObject
+                                      : ephor::calibration::Plane::kElevation;
+}
+
+// motion_done events, written by the LCM thread, drained by the plan job.
+class DoneQueue {
+ public:
+  void push(int64_t goal_id, bool ok) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    events_.emplace_back(goal_id, ok);
+  }
+  std::vector<std::pair<int64_t, bool>> take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::pair<int64_t, bool>> out;
+    out.swap(events_);
+    return out;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::pair<int64_t, bool>> events_;
+};
+
+// One planning job: newest objects and arm state in, at most one goal out.
+class PlanJob {
+ public:
+  PlanJob(ephor::Bus& bus, std::unique_ptr<planner::Planner> p, FieldCalibration calibration,
+          planner::ArmModel arm_model, ephor::geometry::Workcell workcell,
+          std::shared_ptr<ephor::Mailbox<ephor::objects_t>> objects,
+          std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state,
+          std::shared_ptr<DoneQueue> done)
+      : bus_(bus),
+        planner_(std::move(p)),
+        calibration_(std::move(calibration)),
+        arm_model_(arm_model),
+        workcell_(workcell),
+        objects_(std::move(objects)),
+        arm_state_(std::move(arm_state)),
+        done_(std::move(done)) {}
+
+  void operator()() {
+    const int64_t start_ns = ephor::mono_ns();
+    for (const auto& [goal_id, ok] : done_->take()) {
+      if (!planner_->on_motion_done(goal_id, ok)) {
+        spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", goal_id);
+      } else if (!ok) {
+        spdlog::warn("goal {} failed; replanning", goal_id);
+      }
+    }
+    const auto objects = objects_->latest();
+    if (!objects) return;  // nothing seen yet (a motion_done before the first objects)
+    planner::Scene scene;
+    scene.now_s = static_cast<double>(start_ns) * 1e-9;
+    scene.arm = arm_model_;
+    if (const auto arm = arm_state_->latest()) {
+      if (std::isfinite(arm->x_mm) && std::isfinite(arm->y_mm) && std::isfinite(arm->z_mm)) {
+        scene.arm.x_mm = static_cast<double>(arm->x_mm);
+        scene.arm.y_mm = static_cast<double>(arm->y_mm);
+        scene.arm.lowered = static_cast<double>(arm->z_mm) <
+                            0.5 * (workcell_.elevation_plane_z_mm + workcell_.object_plane_z_mm);
+      } else {
+        ++bad_arm_states_;
+        spdlog::warn("arm_state with a non-finite tool position ignored ({} so far)",
+                     bad_arm_states_);
+      }
+    } else if (!warned_no_arm_) {
+      warned_no_arm_ = true;
+      spdlog::warn("no {} yet: assuming the arm is parked at ({}, {}) mm",
+                   ephor::channels::kArmState, arm_model_.x_mm, arm_model_.y_mm);
+    }
+    scene.sheep.reserve(objects->objects.size());
+    for (const ephor::object_t& o : objects->objects) {
+      planner::Sheep s;
+      s.id = o.id;
+      s.x_mm = static_cast<double>(o.x_mm);
+      s.y_mm = static_cast<double>(o.y_mm);
+      s.vx_mm_s = static_cast<double>(o.vx_mm_s);
+      s.vy_mm_s = static_cast<double>(o.vy_mm_s);
+      if (o.state == ephor::object_t::STATE_VISIBLE) {
+        s.state = planner::SheepState::kVisible;
+      } else if (o.state == ephor::object_t::STATE_OBSCURED) {
+        s.state = planner::SheepState::kObscured;
+      } else if (o.state == ephor::object_t::STATE_DEAD) {
+        s.state = planner::SheepState::kDead;
+      } else {
+        ++bad_objects_;
+        spdlog::warn("object {} with unknown state {} ignored ({} so far)", o.id,
+                     static_cast<int>(o.state), bad_objects_);
+        continue;
+      }
+      scene.sheep.push_back(s);
+    }
+
+    const auto goal = planner_->plan(scene);
+    const planner::PlannerStatus st = planner_->status();
+    if (st.bad_sheep != reported_bad_sheep_) {
+      spdlog::warn("{} object(s) with non-finite position or velocity ignored so far",
+                   st.bad_sheep);
+      reported_bad_sheep_ = st.bad_sheep;
+    }
+    if (goal) publish_goal(*goal, objects->utime);
+    publish_status(st, objects->utime,
+                   static_cast<float>(static_cast<double>(ephor::mono_ns() - start_ns) * 1e-3));
+  }
+
+ private:
+  void publish_goal(const planner::Goal& goal, int64_t source_utime) {
+    const auto plane = to_calibration_plane(goal.plane);
+    const Eigen::Vector2d p = calibration_.field_to_image(goal.x_mm, goal.y_mm, plane);
+    // Orientation: the image direction of a short step along theta in F.
+    const Eigen::Vector2d q =
+        calibration_.field_to_image(goal.x_mm + 10.0 * std::cos(goal.theta_rad),
+                                    goal.y_mm + 10.0 * std::sin(goal.theta_rad), plane);
+    ephor::arm_goal_t msg{};
+    msg.utime = ephor::wall_us();
+    msg.goal_id = goal.goal_id;
+    msg.plane = goal.plane == planner::Plane::kObject ? ephor::arm_goal_t::PLANE_OBJECT
+                                                      : ephor::arm_goal_t::PLANE_ELEVATION;
+    msg.u = static_cast<float>(p.x());
+    msg.v = static_cast<float>(p.y());
+    msg.theta_rad = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
+    msg.max_speed_mm_s = static_cast<float>(arm_model_.speed_mm_s);
+    msg.source_frame_utime = source_utime;
+    msg.target_object = goal.target;
+    bus_.publish(ephor::channels::kArmGoal, msg);
+    spdlog::info("goal {} {} plane ({:.0f}, {:.0f}) mm = ({:.1f}, {:.1f}) px, sheep {}",
+                 goal.goal_id, goal.plane == planner::Plane::kObject ? "object" : "elevation",
+                 goal.x_mm, goal.y_mm, p.x(), p.y(), goal.target);
+  }
+
+  void publish_status(const planner::PlannerStatus& st, int64_t source_utime, float planning_us) {
+    ephor::planner_status_t msg{};
+    msg.utime = source_utime;
+    msg.planner = planner_->kind();
+    msg.phase = st.phase;
+    msg.target_object = st.target;
+    const Eigen::Vector2d ic = calibration_.field_to_image(st.intercept_x_mm, st.intercept_y_mm,
+                                                           ephor::calibration::Plane::kObject);
+    msg.intercept_u = static_cast<float>(ic.x());
+    msg.intercept_v = static_cast<float>(ic.y());
+    msg.intercept_time_s = static_cast<float>(st.intercept_time_s);
+    msg.num_candidates = st.num_candidates;
+    msg.planning_us = planning_us;
+    msg.goal_id = st.goal_id;
+    bus_.publish(ephor::channels::kPlannerStatus, msg);
+  }
+
+  ephor::Bus& bus_;
+  std::unique_ptr<planner::Planner> planner_;
+  FieldCalibration calibration_;
+  planner::ArmModel arm_model_;
+  ephor::geometry::Workcell workcell_;
+  std::shared_ptr<ephor::Mailbox<ephor::objects_t>> objects_;
+  std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state_;
+  std::shared_ptr<DoneQueue> done_;
+  bool warned_no_arm_ = false;
+  int64_t bad_objects_ = 0;
+  int64_t bad_arm_states_ = 0;
+  int64_t reported_bad_sheep_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ephor::block_shutdown_signals();
+  CLI::App app{"ephor-planner: the shepherd's planner (paper 003, section 3.4)"};
+  ephor::ProcessArgs args;
+  ephor::add_process_flags(app, args, "planner");
+  std::string kind = "multi";
+  std::string calibration_path;
+  planner::PlannerConfig config;
+  planner::ArmModel arm_model;
+  double deadline_ms = 20.0;
+  double budget_ms = config.lookahead_budget_s * 1e3;
+  app.add_option("--planner", kind, "single, multi or lookahead")
+      ->check(CLI::IsMember(planner::planner_kinds()));
+  app.add_option("--arm-speed-mm-s", arm_model.speed_mm_s,
+                 "end-effector speed the planner assumes and asks for, mm/s")
+      ->check(CLI::Range(1.0, 5000.0));
+  app.add_option("--calibration", calibration_path,
+                 "image-to-field calibration (Protobuf text); default "
+                 "deploy/calibration/sim.pbtxt in the repository");
+  app.add_option("--lookahead-depth", config.lookahead_depth, "saves searched ahead (lookahead)")
+      ->check(CLI::Range(1, 12));
+  app.add_option("--lookahead-budget-ms", budget_ms, "search time per job, ms (lookahead)")
+      ->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--deadline-ms", deadline_ms, "deadline of the plan task, ms")
+      ->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  ephor::init_logging(args.name);
+  config.lookahead_budget_s = budget_ms * 1e-3;
+  // Until ARM_STATE arrives the arm is assumed where ephor-arm parks it.
+  arm_model.x_mm = config.park_x_mm;
+  arm_model.y_mm = config.park_y_mm;
+
+  try {
+    if (calibration_path.empty())
+      calibration_path = (repo_dir() / "deploy" / "calibration" / "sim.pbtxt").string();
+    auto calibration = FieldCalibration::load(calibration_path);
+    spdlog::info("calibration {} ({})", calibration_path, calibration.source());
+
+    ephor::Bus bus(args.lcm_url, args.name);
+    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    auto objects = std::make_shared<ephor::Mailbox<ephor::objects_t>>();
+    auto arm_state = bus.mailbox<ephor::arm_state_t>(ephor::channels::kArmState);
+    auto done = std::make_shared<DoneQueue>();
+    auto job =
+        std::make_shared<PlanJob>(bus, planner::make_planner(kind, config), std::move(calibration),
+                                  arm_model, config.workcell, objects, arm_state, done);
+    runtime.add_triggered("plan", std::chrono::nanoseconds(static_cast<int64_t>(deadline_ms * 1e6)),
+                          [job] { (*job)(); });
+    bus.subscribe<ephor::objects_t>(ephor::channels::kObjects,
+                                    [objects, &runtime](const ephor::objects_t& msg) {
+                                      objects->put(msg);
+                                      runtime.trigger("plan");
+                                    });
+    bus.subscribe<ephor::motion_done_t>(
+        ephor::channels::kMotionDone, [done, &runtime](const ephor::motion_done_t& msg) {
+          done->push(msg.goal_id, msg.status == ephor::motion_done_t::STATUS_DONE);
+          if (msg.status != ephor::motion_done_t::STATUS_DONE) {
+            spdlog::warn("goal {} ended with status {}: {}", msg.goal_id,
+                         static_cast<int>(msg.status), msg.reason);
+          }
+          runtime.trigger("plan");  // send the next goal without waiting for objects
+        });
+    runtime.start();
+    spdlog::info("{} planner: {} -> {}", kind, ephor::channels::kObjects,
+                 ephor::channels::kArmGoal);
+    ephor::wait_for_shutdown_signal();
+    runtime.stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
