@@ -57,6 +57,11 @@ ToolInField tool_in_field(const geometry::Workcell& cell, const Joints& q) {
   return t;
 }
 
+bool reachable_tool_down(const geometry::Workcell& cell, double x_mm, double y_mm, double z_mm,
+                         double theta_rad) {
+  return !make_puma(cell).inverse(tool_down_pose(cell, x_mm, y_mm, z_mm, theta_rad)).empty();
+}
+
 double distance_from_column_mm(const geometry::Workcell& cell, double x_mm, double y_mm) {
   return std::hypot(x_mm - cell.base_x_mm, y_mm - cell.base_y_mm);
 }

@@ -51,6 +51,12 @@ Eigen::Isometry3d field_to_base(const geometry::Workcell& cell, const Eigen::Iso
 // Where the tool is in F for joints q.
 ToolInField tool_in_field(const geometry::Workcell& cell, const Joints& q);
 
+// True when the tool, pointing down with orientation theta, can be at
+// (x, y, z) of F within the joint limits (any IK branch). For planners that
+// must not choose an intercept the arm cannot reach.
+bool reachable_tool_down(const geometry::Workcell& cell, double x_mm, double y_mm, double z_mm,
+                         double theta_rad = 0.0);
+
 // Distance of (x, y) of F from the column axis, mm.
 double distance_from_column_mm(const geometry::Workcell& cell, double x_mm, double y_mm);
 

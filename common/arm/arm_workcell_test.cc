@@ -62,6 +62,9 @@ TEST(ArmWorkcellTest, EveryFieldPointOutsideTheColumnRingIsReachableWithTheToolD
     }
   }
   EXPECT_GT(reachable, 3000);
+  EXPECT_TRUE(reachable_tool_down(cell, 100.0, 100.0, cell.object_plane_z_mm));
+  EXPECT_FALSE(
+      reachable_tool_down(cell, cell.base_x_mm, cell.base_y_mm + 200.0, cell.elevation_plane_z_mm));
   EXPECT_GT(unreachable_ring, 0);
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "procs/arm/joint_path_timing.h"
 #include "procs/arm/trapezoid_profile.h"
 
 namespace ephor::arm {
@@ -196,34 +197,16 @@ MotionPlan MotionPlanner::plan_joint_space(const Joints& start, const Joints& go
                  out.joint_path.reason;
     return out;
   }
-  // Straight joint segments, each a synchronised trapezoid from rest to rest
-  // at the joints' own limits; the scaler then enforces the tool-speed cap.
-  const std::vector<Joints>& w = out.joint_path.waypoints;
-  const JointLimits& lim = arm_.limits();
-  std::vector<TrapezoidProfile> segments;
-  std::vector<double> t_begin;
-  double total = 0.0;
-  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
-    const Joints delta = (w[k + 1] - w[k]).cwiseAbs();
-    double v = 1e9, a = 1e9;  // of the segment parameter in [0, 1], 1/s and 1/s^2
-    for (int i = 0; i < 6; ++i) {
-      if (delta[i] < 1e-12) continue;
-      v = std::min(v, lim.qd_max[i] / delta[i]);
-      a = std::min(a, lim.qdd_max[i] / delta[i]);
-    }
-    segments.emplace_back(1.0, v, a);
-    t_begin.push_back(total);
-    total += segments.back().duration_s();
-  }
+  // Straight joint segments from rest to rest, timed along a velocity-limit
+  // curve (JointPathTiming); the scaler then verifies (and if need be slows).
+  const JointPathTiming timing(arm_, out.joint_path.waypoints, speed_mm_s,
+                               config_.scaling.limit_fraction);
   const TimedPath path = [&](double t, const Joints&, std::string*) -> std::optional<Joints> {
-    if (segments.empty()) return w.back();
-    std::size_t k = 0;
-    while (k + 1 < segments.size() && t >= t_begin[k + 1]) ++k;
-    const double u = segments[k].position(t - t_begin[k]);
-    return Joints(w[k] + u * (w[k + 1] - w[k]));
+    return timing.at(t);
   };
+  const double total = timing.duration_s();
   ScalingConfig scaling = config_.scaling;
-  scaling.max_tool_speed_mm_s = speed_mm_s;
+  scaling.max_tool_speed_mm_s = speed_mm_s * 1.001;
   const ScaledTrajectory scaled = SpeedScaler(arm_, scaling).scale(path, total, start);
   if (!scaled.ok) {
     out.reason = scaled.reason;
