@@ -16,13 +16,13 @@
 // shoulder axis; frames 4, 5 and 6 share their origin (the wrist centre). The
 // tool tip is `tool_length_mm` from the flange along z6 (the approach axis).
 //
-// Velocity and acceleration limits: mdl_puma560 has none. The Unimate PUMA
-// 560's maximum tool speed is commonly quoted as 0.5 m/s; rather than a
-// per-joint table we could not verify, we use conservative limits of our own
-// (see default_limits()): 1 rad/s for the three arm joints, 2 rad/s for the
-// wrist, 2 and 4 rad/s^2. With our 300 mm/s tool-speed cap they bind only
-// close to the column (joint 1) and near wrist singularities, which is where
-// the paper's "scale the motion down" check matters.
+// Velocity and acceleration limits: mdl_puma560 has none, and we could not
+// verify a published per-joint table here, so these are our own conservative
+// choice (default_limits()): 1 rad/s for the three arm joints, 2 rad/s for the
+// wrist, 2 and 4 rad/s^2. They are well below what the PUMA 560's motors are
+// usually credited with; with the 300 mm/s tool-speed cap they bind close to
+// the column (joint 1), near wrist singularities and in configuration changes,
+// which is where the paper's "scale the motion down" check matters.
 
 #include <array>
 #include <optional>
