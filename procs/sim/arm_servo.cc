@@ -11,8 +11,14 @@ namespace {
 
 constexpr size_t kMaxPoints = 100000;
 constexpr double kMaxDurationS = 3600.0;
-constexpr double kVelocitySlack = 1.02;
-constexpr double kAccelSlack = 1.10;
+// A trajectory's own points (their velocities, and the mean velocity and
+// acceleration of each segment) must respect the limits to this slack...
+constexpr double kPointSlack = 1.001;
+// ...while the interpolated reference, checked every step, gets room for the
+// cubic's own overshoot (a Hermite segment through an exact trapezoidal
+// profile can ask up to 4/3 of the profile's acceleration).
+constexpr double kVelocitySlack = 1.25;
+constexpr double kAccelSlack = 1.5;
 
 }  // namespace
 
@@ -99,12 +105,42 @@ bool ArmServo::follow(const JointTrajectory& trajectory) {
   t_ = 0.0;
   previous_ref_velocity_.reset();
 
+  check_points();
   const arm::Joints jump = (trajectory_.q.front() - state_.q).cwiseAbs();
   int j = 0;
   if (jump.maxCoeff(&j) > start_tolerance_rad)
     raise(fmt::format("trajectory {} starts {:.3f} rad away from joint {}'s position",
                       trajectory.seq, jump(j), j + 1));
   return true;
+}
+
+void ArmServo::check_points() {
+  const auto& ts = trajectory_.t_s;
+  for (size_t i = 0; i < ts.size(); ++i) {
+    for (int j = 0; j < 6; ++j) {
+      const double vmax = kPointSlack * limits_.qd_max(j), amax = kPointSlack * limits_.qdd_max(j);
+      const double v = trajectory_.qd[i](j);
+      if (std::abs(v) > vmax)
+        return raise(
+            fmt::format("trajectory {} asks joint {} for {:.3f} rad/s at t = {:.3f} s "
+                        "(velocity limit {:.3f} rad/s); clamped",
+                        trajectory_.seq, j + 1, v, ts[i], limits_.qd_max(j)));
+      if (i == 0) continue;
+      const double dt = ts[i] - ts[i - 1];
+      const double v_mean = (trajectory_.q[i](j) - trajectory_.q[i - 1](j)) / dt;
+      if (std::abs(v_mean) > vmax)
+        return raise(fmt::format(
+            "trajectory {} moves joint {} at {:.3f} rad/s between t = {:.3f} and {:.3f} s "
+            "(velocity limit {:.3f} rad/s); clamped",
+            trajectory_.seq, j + 1, v_mean, ts[i - 1], ts[i], limits_.qd_max(j)));
+      const double a_mean = (trajectory_.qd[i](j) - trajectory_.qd[i - 1](j)) / dt;
+      if (std::abs(a_mean) > amax)
+        return raise(fmt::format(
+            "trajectory {} accelerates joint {} at {:.3f} rad/s^2 between t = {:.3f} and {:.3f} s "
+            "(acceleration limit {:.3f} rad/s^2); clamped",
+            trajectory_.seq, j + 1, a_mean, ts[i - 1], ts[i], limits_.qdd_max(j)));
+    }
+  }
 }
 
 arm::Joints ArmServo::reference(double t) const {
@@ -136,14 +172,14 @@ void ArmServo::step(double dt_s) {
     const arm::Joints v_ref = (ref_next - ref_now) / dt_s;
     if (mode_ == Mode::kFollow) {
       for (int j = 0; j < 6; ++j) {
-        if (std::abs(v_ref(j)) > kVelocitySlack * limits_.qd_max(j) + 1e-9)
+        if (std::abs(v_ref(j)) > kVelocitySlack * limits_.qd_max(j))
           raise(
               fmt::format("trajectory {} demands joint {} velocity {:.3f} rad/s at t = {:.3f} s "
                           "(limit {:.3f} rad/s); clamped",
                           trajectory_.seq, j + 1, v_ref(j), t_, limits_.qd_max(j)));
         if (previous_ref_velocity_) {
           const double a = (v_ref(j) - (*previous_ref_velocity_)(j)) / dt_s;
-          if (std::abs(a) > kAccelSlack * limits_.qdd_max(j) + 1e-6)
+          if (std::abs(a) > kAccelSlack * limits_.qdd_max(j))
             raise(fmt::format(
                 "trajectory {} demands joint {} acceleration {:.3f} rad/s^2 at t = {:.3f} s "
                 "(limit {:.3f} rad/s^2); clamped",

@@ -17,9 +17,12 @@
 // Faults (latched until the next accepted trajectory; the first reason wins):
 // - a point outside [q_min, q_max]: the trajectory is refused and the arm
 //   brakes to a stop at qdd_max and holds there;
-// - the reference itself demands more than qd_max (2 % slack) or qdd_max
-//   (10 % slack), or starts away from the arm (> start_tolerance_rad): the arm
-//   keeps following, clamped, and reports the fault with the reason.
+// - the trajectory itself asks for more than the limits - a point's velocity,
+//   or a segment's mean velocity (dq / dt) or mean acceleration (dqd / dt),
+//   above qd_max or qdd_max; or the interpolated reference grossly so (25 %
+//   over qd_max, 50 % over qdd_max: room for the cubic's own overshoot); or
+//   it starts away from the arm (> start_tolerance_rad): the arm keeps
+//   following, clamped, and reports the fault with the reason.
 // - a joint reaching its position limit while following: stop, as above.
 //
 // A trajectory with the seq being followed is a duplicate and is ignored;
@@ -82,6 +85,7 @@ class ArmServo {
   enum class Mode { kHold, kFollow, kStop };
   arm::Joints reference(double t) const;
   void raise(const std::string& reason);
+  void check_points();
 
   arm::JointLimits limits_;
   ServoState state_;

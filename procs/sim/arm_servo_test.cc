@@ -62,6 +62,39 @@ TEST(ArmServo, FollowsAFeasibleTrajectoryClosely) {
   EXPECT_LT((servo.state().q - (start_pose() + delta)).cwiseAbs().maxCoeff(), 1e-3);
 }
 
+TEST(ArmServo, TrapezoidAtTheLimitsIsNoFault) {
+  // Joint 1 at exactly its velocity and acceleration limits (1 rad/s, 2 rad/s^2),
+  // sampled every 70 ms so that the phase changes fall inside segments.
+  const arm::JointLimits lim = arm::Puma560::default_limits();
+  ArmServo servo(lim, start_pose());
+  const double v = lim.qd_max(0), a = lim.qdd_max(0), ta = v / a, tc = 0.5, total = 2 * ta + tc;
+  const auto profile = [&](double t, double& q, double& qd) {
+    if (t < ta) {
+      q = 0.5 * a * t * t, qd = a * t;
+    } else if (t < ta + tc) {
+      q = 0.5 * a * ta * ta + v * (t - ta), qd = v;
+    } else {
+      const double r = std::max(0.0, total - t);
+      q = 0.5 * a * ta * ta * 2 + v * tc - 0.5 * a * r * r, qd = a * r;
+    }
+  };
+  JointTrajectory traj;
+  traj.seq = 3;
+  for (double t = 0.0;; t = std::min(t + 0.07, total)) {
+    double q, qd;
+    profile(t, q, qd);
+    Joints jq = start_pose(), jqd = Joints::Zero();
+    jq(0) += q, jqd(0) = qd;
+    traj.t_s.push_back(t), traj.q.push_back(jq), traj.qd.push_back(jqd);
+    if (t >= total) break;
+  }
+  ASSERT_TRUE(servo.follow(traj));
+  for (int i = 0; i < 600 && !servo.state().trajectory_done; ++i) servo.step(kDt);
+  EXPECT_FALSE(servo.state().fault) << servo.state().fault_reason;
+  EXPECT_TRUE(servo.state().trajectory_done);
+  EXPECT_NEAR(servo.state().q(0), start_pose()(0) + v * (ta + tc), 1e-3);
+}
+
 TEST(ArmServo, AggressiveTrajectoryIsClampedToTheLimitsAndFaults) {
   const arm::JointLimits lim = arm::Puma560::default_limits();
   ArmServo servo(lim, start_pose());
