@@ -1,0 +1,144 @@
+// The world model on real blobs: ephor-sim -> ephor-vision -> ephor-worldmodel
+// in a private network namespace, scored against the simulator's ground
+// truth: every sheep on the field is tracked, to within a few mm, and keeps
+// its id (also when it walks under the arm, which stands over the field
+// centre).
+
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include <gtest/gtest.h>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "ephor/ground_truth_t.hpp"
+#include "ephor/objects_t.hpp"
+#include "tests/integration/harness.h"
+
+namespace ephor::testing {
+namespace {
+
+using std::chrono::seconds;
+
+// Pairs OBJECTS with the GROUND_TRUTH of the same frame (same utime) and
+// scores them.
+class Scorer {
+ public:
+  Scorer() : bus_("", "scorer") {
+    bus_.subscribe<ground_truth_t>(channels::kGroundTruth, [this](const ground_truth_t& m) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      truth_[m.utime] = m;
+      while (truth_.size() > 300) truth_.erase(truth_.begin());
+    });
+    bus_.subscribe<objects_t>(channels::kObjects, [this](const objects_t& m) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = truth_.find(m.utime);
+      if (it == truth_.end()) {
+        ++unpaired_;
+        return;
+      }
+      score(it->second, m);
+    });
+    bus_.start();
+  }
+  ~Scorer() { bus_.stop(); }
+
+  struct Score {
+    int frames = 0;
+    int unpaired = 0;
+    int sheep_frames = 0;  // visible sheep on the field, summed over frames
+    int tracked = 0;       // ... with a visible object within 25 mm
+    double error_sum_mm = 0.0;
+    double error_max_mm = 0.0;
+    int id_switches = 0;      // a sheep's object id changed
+    int occluded_frames = 0;  // sheep hidden by the arm, summed over frames
+    int occluded_kept = 0;    // ... whose object was still alive (obscured) near it
+  };
+  Score get() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    Score s = score_;
+    s.unpaired = unpaired_;
+    return s;
+  }
+
+ private:
+  void score(const ground_truth_t& truth, const objects_t& objs) {
+    ++score_.frames;
+    for (const auto& sheep : truth.sheep) {
+      if (!sheep.on_field) continue;
+      // Stay clear of the field edge, where a sheep may be dead or new.
+      if (sheep.x_mm < 30 || sheep.y_mm < 30 || sheep.x_mm > 1189 || sheep.y_mm > 884) continue;
+      const object_t* best = nullptr;
+      double best_d = 1e9;
+      for (const auto& o : objs.objects) {
+        if (o.state == object_t::STATE_DEAD) continue;
+        const double d = std::hypot(o.x_mm - sheep.x_mm, o.y_mm - sheep.y_mm);
+        if (d < best_d) {
+          best_d = d;
+          best = &o;
+        }
+      }
+      if (sheep.visible) {
+        ++score_.sheep_frames;
+        if (best != nullptr && best->state == object_t::STATE_VISIBLE && best_d < 25.0) {
+          ++score_.tracked;
+          score_.error_sum_mm += best_d;
+          score_.error_max_mm = std::max(score_.error_max_mm, best_d);
+        }
+      } else if (const auto known = id_of_.find(sheep.id); known != id_of_.end()) {
+        // Hidden by the arm after we had seen it: its object must live on,
+        // dead-reckoned near it.
+        ++score_.occluded_frames;
+        for (const auto& o : objs.objects)
+          if (o.id == known->second && o.state != object_t::STATE_DEAD &&
+              std::hypot(o.x_mm - sheep.x_mm, o.y_mm - sheep.y_mm) < 60.0f)
+            ++score_.occluded_kept;
+      }
+      if (best != nullptr && best_d < 25.0 && best->state == object_t::STATE_VISIBLE) {
+        auto [it, inserted] = id_of_.emplace(sheep.id, best->id);
+        if (!inserted && it->second != best->id) {
+          ++score_.id_switches;
+          it->second = best->id;
+        }
+      }
+    }
+  }
+
+  Bus bus_;
+  std::mutex mutex_;
+  std::map<int64_t, ground_truth_t> truth_;
+  std::map<int, int> id_of_;  // sim sheep id -> object id
+  Score score_;
+  int unpaired_ = 0;
+};
+
+TEST(WorldModelPipeline, TracksSimulatedSheepWithStableIds) {
+  Scorer scorer;
+  Processes procs;
+  const std::vector<std::pair<std::string, std::string>> env = {{"EPHOR_HOST", "testhost"}};
+  procs.start("sim", bin("ephor-sim"),
+              {"--no-mlock", "--name", "sim", "--sheep", "4", "--seed", "3"}, env);
+  procs.start("vision", bin("ephor-vision"), {"--no-mlock", "--name", "vision"}, env);
+  procs.start("worldmodel", bin("ephor-worldmodel"), {"--no-mlock", "--name", "worldmodel"}, env);
+  ASSERT_TRUE(wait_until([&] { return scorer.get().frames >= 30; }, seconds(20)))
+      << "no OBJECTS paired with GROUND_TRUTH";
+  // 20 s of tracking at 30 Hz.
+  ASSERT_TRUE(wait_until([&] { return scorer.get().frames >= 630; }, seconds(40)));
+  const auto s = scorer.get();
+  const double mean_mm = s.tracked > 0 ? s.error_sum_mm / s.tracked : -1.0;
+  std::printf(
+      "frames %d (unpaired %d); visible sheep-frames %d, tracked %d, error mean %.2f mm max %.2f "
+      "mm; id switches %d; occluded sheep-frames %d, kept %d\n",
+      s.frames, s.unpaired, s.sheep_frames, s.tracked, mean_mm, s.error_max_mm, s.id_switches,
+      s.occluded_frames, s.occluded_kept);
+  EXPECT_GT(s.sheep_frames, 0);
+  EXPECT_GE(s.tracked, 0.98 * s.sheep_frames);
+  EXPECT_LT(mean_mm, 3.0);
+  EXPECT_EQ(s.id_switches, 0);
+  EXPECT_GE(s.occluded_kept, s.occluded_frames * 9 / 10);
+  EXPECT_TRUE(procs.exits().empty());
+}
+
+}  // namespace
+}  // namespace ephor::testing
