@@ -116,6 +116,15 @@ struct PlannerConfig {
   // triggers a correction in the object plane.
   double lateral_tolerance_mm = 30.0;
   int max_corrections = 3;
+  // The lowered tool turns a sheep when the tip is within this of its body
+  // (ephor-sim's touch_radius_mm). While the tool is down, the arm hides the
+  // sheep's mark from the camera, so its new heading may not be seen: a
+  // predicted body over the tool for touch_confirm_s counts as the touch.
+  double touch_radius_mm = 15.0;
+  double touch_confirm_s = 0.2;
+  // A sheep just saved is not a candidate again for this long: the world
+  // model's filtered velocity takes a few frames to show the turn.
+  double resave_cooldown_s = 1.5;
   // How long the lowered tool waits for the sheep at most, s.
   double max_turn_wait_s = 30.0;
   // A goal without motion_done after factor * expected duration + slack is

@@ -154,6 +154,8 @@ void KinematicField::step(double dt) {
                std::abs(across) <= config_.sheep_half_width_mm + config_.tool_radius_mm;
     }
     if (inside && !s.touched_now) {
+      s.old_heading = s.heading;
+      s.turned_at_s = now_s_;
       s.heading = std::atan2(w.centre_y_mm() - s.y, w.centre_x_mm() - s.x);
       ++touches_;
     }
@@ -169,10 +171,16 @@ Scene KinematicField::scene(const ArmModel& arm_params) const {
   out.arm.y_mm = tool_y_;
   const auto& w = config_.workcell;
   out.arm.lowered = tool_z_ < 0.5 * (w.elevation_plane_z_mm + w.object_plane_z_mm);
+  const bool lowered = tool_z_ <= w.object_plane_z_mm + 1.0;
   for (const SimSheep& s : sheep_) {
     if (!s.on_field) continue;
-    out.sheep.push_back(Sheep{s.id, s.x, s.y, s.speed * std::cos(s.heading),
-                              s.speed * std::sin(s.heading), SheepState::kVisible});
+    const bool hidden = lowered && config_.hide_radius_mm > 0.0 &&
+                        std::hypot(tool_x_ - s.x, tool_y_ - s.y) < config_.hide_radius_mm;
+    const bool turn_seen = !hidden && now_s_ >= s.turned_at_s + config_.velocity_lag_s;
+    const double heading = turn_seen ? s.heading : s.old_heading;
+    out.sheep.push_back(Sheep{s.id, s.x, s.y, s.speed * std::cos(heading),
+                              s.speed * std::sin(heading),
+                              hidden ? SheepState::kObscured : SheepState::kVisible});
   }
   return out;
 }

@@ -31,8 +31,14 @@ struct KinematicFieldConfig {
   double arm_speed_mm_s = 300.0;
   double goal_latency_s = 0.05;  // before the arm starts a goal (comm)
   double respawn_s = 5.0;
-  double entry_angle_rad = 0.8;       // re-entry heading within this of the inward normal
-  double start_margin_mm = 134.5;     // initial sheep this far inside the edges (ephor-sim's rule)
+  double entry_angle_rad = 0.8;    // re-entry heading within this of the inward normal
+  double start_margin_mm = 134.5;  // initial sheep this far inside the edges (ephor-sim's rule)
+  // Imperfect sensing (0 = off): a turn shows in the reported velocity only
+  // after velocity_lag_s (the world model's filter), and a sheep within
+  // hide_radius_mm of the lowered tool is reported obscured with the
+  // velocity it had before (the arm hides its mark from the camera).
+  double velocity_lag_s = 0.0;
+  double hide_radius_mm = 0.0;
   double start_x_mm = 1219.0 - 60.0;  // the arm starts parked
   double start_y_mm = 60.0;
 };
@@ -67,6 +73,8 @@ class KinematicField {
     bool on_field = true;
     double respawn_at_s = 0.0;
     bool touched_now = false;  // inside the lowered tool this step (one turn per touch)
+    double old_heading = 0.0;  // before the last turn
+    double turned_at_s = -1e9;
   };
   void spawn_inside(SimSheep& s);
   void spawn_at_edge(SimSheep& s);

@@ -49,7 +49,7 @@ std::vector<int> MultiSheepPlanner::candidate_order(const Scene&,
 
 std::optional<SavePlan> MultiSheepPlanner::choose(const Scene& scene, int* candidates) {
   verdicts_.clear();
-  const std::vector<int> by_urgency = rules().candidates_by_urgency(scene.sheep);
+  const std::vector<int> by_urgency = save_candidates(scene);
   *candidates = static_cast<int>(by_urgency.size());
   std::optional<SavePlan> last_resort;
   for (int index : candidate_order(scene, by_urgency)) {

@@ -267,6 +267,56 @@ TEST(MultiSheepPlannerTest, TargetGoneOrTurnedOnItsOwnDuringTheMoveMeansChoosing
   }
 }
 
+// While the tool is down the arm hides the sheep: the world model dead-
+// reckons it with its old velocity and the turn is not seen. The predicted
+// body over the tool for touch_confirm_s counts as the touch.
+TEST(MultiSheepPlannerTest, HiddenSheepUnderTheLoweredToolCountsAsTurned) {
+  const PlannerConfig config;
+  MultiSheepPlanner planner{config};
+  const auto move = planner.plan(make_scene({kA}));
+  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
+  const auto lower = planner.plan(advance({kA}, 2.0, move->x_mm, move->y_mm, false, 2.0));
+  ASSERT_TRUE(lower.has_value() && lower->plane == Plane::kObject);
+  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
+  // The sheep's centre 30 mm short of the tool, still "walking out", obscured.
+  Sheep hidden = kA;
+  hidden.x_mm = lower->x_mm + 30.0;
+  hidden.y_mm = lower->y_mm;
+  hidden.state = SheepState::kObscured;
+  Scene s = make_scene({hidden}, lower->x_mm, lower->y_mm, 10.0);
+  s.arm.lowered = true;
+  EXPECT_FALSE(planner.plan(s).has_value());  // body just arrived over the tool
+  hidden.x_mm -= 30.0 * 0.1;
+  s.sheep = {hidden};
+  s.now_s = 10.1;
+  EXPECT_FALSE(planner.plan(s).has_value());
+  hidden.x_mm -= 30.0 * (config.touch_confirm_s);
+  s.sheep = {hidden};
+  s.now_s = 10.1 + config.touch_confirm_s;
+  const auto raise = planner.plan(s);
+  ASSERT_TRUE(raise.has_value());
+  EXPECT_EQ(raise->plane, Plane::kElevation);
+  EXPECT_EQ(planner.status().saves, 1);
+
+  // Raised; the world model still shows the old velocity for a few frames:
+  // the sheep just saved is not chosen again at once (nobody else: park).
+  ASSERT_TRUE(planner.on_motion_done(raise->goal_id, true));
+  hidden.state = SheepState::kVisible;
+  Scene up = make_scene({hidden}, raise->x_mm, raise->y_mm, s.now_s + 0.7);
+  const auto next = planner.plan(up);
+  ASSERT_TRUE(next.has_value());
+  EXPECT_EQ(next->target, -1);
+  EXPECT_EQ(planner.status().phase, "parking");
+  // After the cool-down a sheep still walking out is a candidate again.
+  ASSERT_TRUE(planner.on_motion_done(next->goal_id, true));
+  up.now_s += config.resave_cooldown_s;
+  up.arm.x_mm = next->x_mm;
+  up.arm.y_mm = next->y_mm;
+  const auto again = planner.plan(up);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->target, 1);
+}
+
 TEST(MultiSheepPlannerTest, LoweredToolIsRaisedWhenTheTargetDisappears) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const auto move = planner.plan(make_scene({kA}));

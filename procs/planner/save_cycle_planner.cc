@@ -121,7 +121,10 @@ std::optional<Goal> SaveCyclePlanner::step(const Scene& scene) {
       case Phase::kLowering:
       case Phase::kCorrecting:
         if (!done) return raise(scene);  // the tool may be down: get it out of the way first
-        if (phase_ == Phase::kLowering) turn_deadline_s_ = -1.0;  // computed on the next look
+        if (phase_ == Phase::kLowering) {
+          turn_deadline_s_ = -1.0;  // computed on the next look
+          body_over_tool_since_s_ = -1.0;
+        }
         set_phase(Phase::kTurning);
         break;
       case Phase::kRaising:
@@ -150,6 +153,15 @@ std::optional<Goal> SaveCyclePlanner::step(const Scene& scene) {
     default:
       return start_over(scene);
   }
+}
+
+std::vector<int> SaveCyclePlanner::save_candidates(const Scene& scene) const {
+  std::vector<int> out;
+  for (int index : rules_.candidates_by_urgency(scene.sheep)) {
+    const auto it = cooldown_until_s_.find(scene.sheep[static_cast<size_t>(index)].id);
+    if (it == cooldown_until_s_.end() || scene.now_s >= it->second) out.push_back(index);
+  }
+  return out;
 }
 
 const Sheep* SaveCyclePlanner::find_target(const Scene& scene) const {
@@ -266,13 +278,25 @@ std::optional<Goal> SaveCyclePlanner::verify(const Scene& scene) {
 std::optional<Goal> SaveCyclePlanner::watch_turn(const Scene& scene) {
   const Sheep* target = find_target(scene);
   if (target == nullptr) return raise(scene);  // gone (escaped, dead, lost): free the arm
-  if (rules_.heading_to_centre(*target)) {
-    // Turned by the touch (or on its own): the save is done.
+  const auto saved = [&] {
     ++status_.saves;
     target_saved_ = true;
+    cooldown_until_s_[target_] = scene.now_s + config().resave_cooldown_s;
+    body_over_tool_since_s_ = -1.0;
     return raise(scene);
-  }
+  };
+  // Turned by the touch (or on its own): the save is done.
+  if (rules_.heading_to_centre(*target)) return saved();
   const PathOffset off = offset_from_path(*target, scene.arm.x_mm, scene.arm.y_mm);
+  // The (possibly dead-reckoned, the arm hiding it) body over the tool for
+  // long enough: touched.
+  if (std::abs(off.along_mm) <= config().sheep_half_length_mm + config().touch_radius_mm &&
+      std::abs(off.lateral_mm) <= config().sheep_half_width_mm + config().touch_radius_mm) {
+    if (body_over_tool_since_s_ < 0.0) body_over_tool_since_s_ = scene.now_s;
+    if (scene.now_s - body_over_tool_since_s_ >= config().touch_confirm_s) return saved();
+  } else {
+    body_over_tool_since_s_ = -1.0;
+  }
   if (turn_deadline_s_ < 0.0) {
     // Wait until the whole body has passed the tool, plus a second.
     double wait = 2.0;

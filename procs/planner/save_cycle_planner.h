@@ -18,8 +18,10 @@
 // when the tool may be down). Subclasses decide which sheep to save and
 // where to meet it.
 
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "procs/planner/field_rules.h"
 #include "procs/planner/intercept_solver.h"
@@ -71,6 +73,9 @@ class SaveCyclePlanner : public Planner {
   virtual bool parks_after_save() const { return false; }
 
   const FieldRules& rules() const { return rules_; }
+  // Indices into scene.sheep of the sheep needing saving, soonest to leave
+  // first, without those saved less than resave_cooldown_s ago.
+  std::vector<int> save_candidates(const Scene& scene) const;
   const PlannerConfig& config() const { return rules_.config(); }
   // Delay between reaching the intercept in the elevation plane and the
   // tool being down, plus the overheads of the move and the lowering goals.
@@ -108,6 +113,8 @@ class SaveCyclePlanner : public Planner {
   double turn_deadline_s_ = 0.0;
   bool target_saved_ = false;
   bool ignores_other_sheep_ = false;
+  double body_over_tool_since_s_ = -1.0;    // -1: the target's body is not over the tool
+  std::map<int, double> cooldown_until_s_;  // sheep id -> time it may be a candidate again
 };
 
 }  // namespace ephor::planner

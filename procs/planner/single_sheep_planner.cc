@@ -47,7 +47,7 @@ std::optional<Intercept> SingleSheepPlanner::best_intercept(const ArmModel& arm,
 }
 
 std::optional<SavePlan> SingleSheepPlanner::choose(const Scene& scene, int* candidates) {
-  const std::vector<int> by_urgency = rules().candidates_by_urgency(scene.sheep);
+  const std::vector<int> by_urgency = save_candidates(scene);
   *candidates = static_cast<int>(by_urgency.size());
   if (by_urgency.empty()) return std::nullopt;
   const Sheep& sheep = scene.sheep[static_cast<size_t>(by_urgency.front())];
