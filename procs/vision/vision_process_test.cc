@@ -3,10 +3,6 @@
 // private network namespace, default LCM URL); run plainly it uses a private
 // port so it cannot hear other LCM traffic on the host.
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -34,8 +30,7 @@
 #include "ephor/task_register_t.hpp"
 #include "ephor/vision_cmd_t.hpp"
 #include "procs/vision/synthetic_image.h"
-
-extern char** environ;
+#include "procs/vision/test_child_process.h"
 
 namespace ephor::vision {
 namespace {
@@ -52,11 +47,6 @@ std::string test_lcm_url() {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=16777216";
 }
 
-std::string bin_dir() {
-  const char* dir = std::getenv("EPHOR_BIN_DIR");
-  return dir != nullptr ? dir : "bin";
-}
-
 class VisionProcessTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -68,47 +58,23 @@ class VisionProcessTest : public ::testing::Test {
       if (m.process == "vision" && m.task == "vision") update([&] { ready_ = true; });
     });
     bus_->start();
-    log_path_ = ::testing::TempDir() + "vision_process_test_" + std::to_string(getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".log";
-    const std::string exe = bin_dir() + "/ephor-vision";
-    std::vector<std::string> argv_s = {exe,          "--name",    "vision", "--host",      "test",
-                                       "--no-mlock", "--lcm-url", url_,     "--period-ms", "10"};
-    std::vector<char*> argv;
-    for (std::string& s : argv_s) argv.push_back(s.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    const int rc = posix_spawn(&pid_, exe.c_str(), &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    ASSERT_EQ(rc, 0) << "cannot start " << exe << ": " << std::strerror(rc);
+    vision_ = std::make_unique<TestChildProcess>(
+        "ephor-vision",
+        std::vector<std::string>{"--name", "vision", "--host", "test", "--no-mlock", "--lcm-url",
+                                 url_, "--period-ms", "10"},
+        ::testing::TempDir() + "vision_process_test_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".log");
     ASSERT_TRUE(wait([this] { return ready_; }, 10s))
         << "ephor-vision did not register its task within 10 s; log:\n"
         << log();
   }
 
   void TearDown() override {
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      int status = 0;
-      const auto deadline = std::chrono::steady_clock::now() + 5s;
-      pid_t r = 0;
-      while ((r = waitpid(pid_, &status, WNOHANG)) == 0 &&
-             std::chrono::steady_clock::now() < deadline)
-        std::this_thread::sleep_for(10ms);  // reaping a child has no condition variable
-      if (r == 0) {
-        kill(pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        ADD_FAILURE() << "ephor-vision did not exit within 5 s of SIGTERM";
-      } else {
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-            << "ephor-vision exit status " << status << "; log:\n"
-            << log();
-      }
+    if (vision_) {
+      const std::string outcome = vision_->stop();
+      EXPECT_EQ(outcome, "") << "ephor-vision: " << outcome << "; log:\n" << log();
     }
     if (bus_) bus_->stop();
-    std::remove(log_path_.c_str());
   }
 
   template <class F>
@@ -128,22 +94,10 @@ class VisionProcessTest : public ::testing::Test {
     return blobs_;
   }
 
-  // Waits until ephor-vision's log contains `text`.
   bool wait_log(const std::string& text, std::chrono::milliseconds timeout) const {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (log().find(text) == std::string::npos) {
-      if (std::chrono::steady_clock::now() >= deadline) return false;
-      std::this_thread::sleep_for(10ms);  // a child's log file has no condition variable
-    }
-    return true;
+    return vision_->wait_log(text, timeout);
   }
-
-  std::string log() const {
-    std::ifstream in(log_path_);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
+  std::string log() const { return vision_->log(); }
 
   // A 512 x 482 frame with marks at `centres`.
   camera_frame_t frame(int64_t index, std::initializer_list<std::pair<double, double>> centres) {
@@ -188,8 +142,7 @@ class VisionProcessTest : public ::testing::Test {
   std::condition_variable cv_;
   std::vector<blobs_t> blobs_;
   bool ready_ = false;
-  std::string log_path_;
-  pid_t pid_ = 0;
+  std::unique_ptr<TestChildProcess> vision_;
   SyntheticImage img_{512, 482, 40.0f};
   std::mt19937 rng_{17};
 };
