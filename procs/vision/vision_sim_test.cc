@@ -37,10 +37,21 @@ std::string test_lcm_url() {
 }
 
 std::string log_path(const std::string& who) {
-  return ::testing::TempDir() + "vision_sim_test_" + who + "_" + std::to_string(getpid()) + ".log";
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  std::string name = "vision_sim_test_" + who + "_" + std::to_string(getpid()) + "_" + test;
+  for (char& c : name) c = c == '/' ? '_' : c;
+  return ::testing::TempDir() + name + ".log";
 }
 
-TEST(VisionSimTest, BlobsMatchTheSimulatorsMarks) {
+struct Variant {
+  std::string mode;  // --mode
+  std::string scan;  // --scan
+};
+
+class VisionSimTest : public ::testing::TestWithParam<Variant> {};
+
+TEST_P(VisionSimTest, BlobsMatchTheSimulatorsMarks) {
+  const Variant variant = GetParam();
   const std::string url = test_lcm_url();
   Bus bus(url, "test");
   std::mutex mutex;
@@ -141,14 +152,23 @@ TEST(VisionSimTest, BlobsMatchTheSimulatorsMarks) {
   ASSERT_GT(whole, 0);
   const double rms = std::sqrt(sum_sq / whole);
   std::printf(
-      "%d frames: %d visible marks, %d found, %d whole; %d blobs of no mark; whole-mark centroid "
+      "%s/%s, %d frames: %d visible marks, %d found, %d whole; %d blobs of no mark; whole-mark "
+      "centroid "
       "rms %.3f px, mean error (%.3f, %.3f) px\n",
-      frames, visible, found, whole, extra, rms, sum_du / whole, sum_dv / whole);
+      variant.mode.c_str(), variant.scan.c_str(), frames, visible, found, whole, extra, rms,
+      sum_du / whole, sum_dv / whole);
   EXPECT_EQ(found, visible);
   EXPECT_EQ(extra, 0);
   EXPECT_GE(whole, visible * 8 / 10);
   EXPECT_LE(rms, 0.25);
 }
+
+INSTANTIATE_TEST_SUITE_P(Modes, VisionSimTest,
+                         ::testing::Values(Variant{"blobify", "full"}, Variant{"trackify", "full"},
+                                           Variant{"blobify", "axis"}),
+                         [](const ::testing::TestParamInfo<Variant>& p) {
+                           return p.param.mode + "_" + p.param.scan;
+                         });
 
 }  // namespace
 }  // namespace ephor::vision
