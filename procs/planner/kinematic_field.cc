@@ -160,6 +160,13 @@ void KinematicField::step(double dt) {
       ++touches_;
     }
     s.touched_now = inside;
+    const bool hidden = lowered && config_.hide_radius_mm > 0.0 &&
+                        std::hypot(tool_x_ - s.x, tool_y_ - s.y) < config_.hide_radius_mm;
+    if (!hidden) {
+      s.hidden_since_s = -1.0;
+    } else if (s.hidden_since_s < 0.0) {
+      s.hidden_since_s = now_s_;
+    }
   }
 }
 
@@ -171,13 +178,14 @@ Scene KinematicField::scene(const ArmModel& arm_params) const {
   out.arm.y_mm = tool_y_;
   const auto& w = config_.workcell;
   out.arm.lowered = tool_z_ < 0.5 * (w.elevation_plane_z_mm + w.object_plane_z_mm);
-  const bool lowered = tool_z_ <= w.object_plane_z_mm + 1.0;
   for (const SimSheep& s : sheep_) {
     if (!s.on_field) continue;
-    const bool hidden = lowered && config_.hide_radius_mm > 0.0 &&
-                        std::hypot(tool_x_ - s.x, tool_y_ - s.y) < config_.hide_radius_mm;
-    const bool turn_seen = !hidden && now_s_ >= s.turned_at_s + config_.velocity_lag_s;
-    const double heading = turn_seen ? s.heading : s.old_heading;
+    const bool hidden = s.hidden_since_s >= 0.0;
+    // A turn is not seen while the sheep is hidden (it happened after it was
+    // hidden) nor before the lag has passed.
+    const bool turn_unseen = (hidden && s.turned_at_s >= s.hidden_since_s) ||
+                             now_s_ < s.turned_at_s + config_.velocity_lag_s;
+    const double heading = turn_unseen ? s.old_heading : s.heading;
     out.sheep.push_back(Sheep{s.id, s.x, s.y, s.speed * std::cos(heading),
                               s.speed * std::sin(heading),
                               hidden ? SheepState::kObscured : SheepState::kVisible});

@@ -75,6 +75,7 @@ class KinematicField {
     bool touched_now = false;  // inside the lowered tool this step (one turn per touch)
     double old_heading = 0.0;  // before the last turn
     double turned_at_s = -1e9;
+    double hidden_since_s = -1.0;  // -1: visible
   };
   void spawn_inside(SimSheep& s);
   void spawn_at_edge(SimSheep& s);

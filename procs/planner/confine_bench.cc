@@ -1,0 +1,132 @@
+// ephor-bench-planner: the planners on the kinematic stand-in (no vision, no
+// LCM): escapes per 10 simulated minutes for 1..N sheep with each planner,
+// and the time one planning job takes. Issue 3's "bench confine" on the
+// full system measures the same with the real simulator; this isolates the
+// planner.
+//
+//   ephor-bench-planner [--minutes 10] [--seeds 3] [--max-sheep 8]
+//                       [--lag-s 0.15] [--hide-mm 150] [--json FILE]
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "procs/planner/kinematic_field.h"
+#include "procs/planner/planner.h"
+
+namespace {
+
+using ephor::planner::ArmModel;
+using ephor::planner::KinematicField;
+using ephor::planner::KinematicFieldConfig;
+
+struct Run {
+  int escapes = 0;
+  int touches = 0;
+  std::vector<double> job_us;
+};
+
+Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, double lag_s,
+        double hide_mm) {
+  KinematicFieldConfig fc;
+  fc.sheep = sheep;
+  fc.seed = seed;
+  fc.velocity_lag_s = lag_s;
+  fc.hide_radius_mm = hide_mm;
+  KinematicField field{fc};
+  auto planner = ephor::planner::make_planner(kind, ephor::planner::PlannerConfig{});
+  const ArmModel arm;
+  const double dt = 1.0 / 30.0;
+  Run out;
+  for (int i = 0; i < static_cast<int>(seconds / dt); ++i) {
+    field.step(dt);
+    for (const auto& [id, ok] : field.take_done()) planner->on_motion_done(id, ok);
+    const auto scene = field.scene(arm);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto goal = planner->plan(scene);
+    out.job_us.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    if (goal) field.send(*goal);
+  }
+  out.escapes = field.escapes();
+  out.touches = field.touches();
+  return out;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto i = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
+  return v[i];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ephor-bench-planner: planners on the kinematic stand-in"};
+  double minutes = 10.0;
+  int seeds = 3;
+  int max_sheep = 8;
+  double lag_s = 0.15;
+  double hide_mm = 150.0;
+  std::string json_path;
+  app.add_option("--minutes", minutes, "simulated minutes per run")->check(CLI::Range(0.1, 600.0));
+  app.add_option("--seeds", seeds, "runs (seeds 1..N) per planner and sheep count")
+      ->check(CLI::Range(1, 100));
+  app.add_option("--max-sheep", max_sheep, "sheep counts 1..N")->check(CLI::Range(1, 20));
+  app.add_option("--lag-s", lag_s, "sensing lag of a turn, s")->check(CLI::Range(0.0, 5.0));
+  app.add_option("--hide-mm", hide_mm, "sheep within this of the lowered tool are hidden, mm")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--json", json_path, "write the results here");
+  CLI11_PARSE(app, argc, argv);
+
+  nlohmann::json results = nlohmann::json::array();
+  std::printf(
+      "escapes per 10 simulated min (mean of %d seeds, %.1f min each; lag %.2f s, hidden %.0f "
+      "mm)\n",
+      seeds, minutes, lag_s, hide_mm);
+  std::printf("%-10s", "planner");
+  for (int n = 1; n <= max_sheep; ++n) std::printf("  %2d sheep", n);
+  std::printf("   job p50/p99/max us\n");
+  for (const std::string& kind : ephor::planner::planner_kinds()) {
+    std::printf("%-10s", kind.c_str());
+    std::vector<double> all_us;
+    for (int n = 1; n <= max_sheep; ++n) {
+      int escapes = 0;
+      int touches = 0;
+      for (int s = 1; s <= seeds; ++s) {
+        const Run r = run(kind, n, static_cast<uint32_t>(s), minutes * 60.0, lag_s, hide_mm);
+        escapes += r.escapes;
+        touches += r.touches;
+        all_us.insert(all_us.end(), r.job_us.begin(), r.job_us.end());
+      }
+      const double per10 = static_cast<double>(escapes) / seeds * (10.0 / minutes);
+      std::printf("  %8.2f", per10);
+      results.push_back({{"planner", kind},
+                         {"sheep", n},
+                         {"seeds", seeds},
+                         {"minutes", minutes},
+                         {"escapes_total", escapes},
+                         {"escapes_per_10min", per10},
+                         {"touches_total", touches}});
+    }
+    std::printf("   %.1f/%.1f/%.1f\n", percentile(all_us, 0.5), percentile(all_us, 0.99),
+                percentile(all_us, 1.0));
+  }
+  if (!json_path.empty()) {
+    std::ofstream out(json_path);
+    out << nlohmann::json{{"lag_s", lag_s}, {"hide_mm", hide_mm}, {"runs", results}}.dump(2)
+        << "\n";
+    if (!out) {
+      std::fprintf(stderr, "cannot write %s\n", json_path.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
