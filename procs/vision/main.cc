@@ -109,6 +109,15 @@ class VisionTask {
       }
     }
     if (r.status == FrameStatus::kPaused) return;  // paused: publish nothing
+    if (pipeline_.blobifier_stats().truncated) {
+      ++truncated_frames_;
+      if (truncated_frames_ <= 5 || truncated_frames_ % 100 == 0) {
+        spdlog::warn(
+            "frame {}: blob limit reached, the rest of the frame was not searched ({} "
+            "such frames; noise above the threshold?)",
+            f.frame_index, truncated_frames_);
+      }
+    }
 
     msg_.utime = f.utime;
     msg_.frame_index = f.frame_index;
@@ -160,8 +169,7 @@ class VisionTask {
     spdlog::info(
         "{} blobs in frame; {:.1f} frames/s published, mean frame-to-blobs {:.0f} us; "
         "{} frames dropped for newer, {} bad frames, {} bad commands",
-        r.blobs->size(),
-        last_status_ns_ > 0 ? frames / (static_cast<double>(now - last_status_ns_) / 1e9) : 0.0,
+        r.blobs->size(), frames / (static_cast<double>(now - last_status_ns_) / 1e9),
         frames > 0 ? sum_processing_us_ / frames : 0.0, frames_->overwritten(), bad_frames_,
         bad_commands_);
     last_status_ns_ = now;
@@ -176,6 +184,7 @@ class VisionTask {
   ephor::blobs_t msg_{};
   int64_t bad_frames_ = 0;
   int64_t bad_commands_ = 0;
+  int64_t truncated_frames_ = 0;
   int64_t published_ = 0;
   int64_t published_at_status_ = 0;
   double sum_processing_us_ = 0.0;
