@@ -77,6 +77,9 @@ class Blobifier {
   // Phase one over the sample-grid points inside [u0, u1) x [v0, v1) (the grid
   // is anchored at pixel (0, 0), so bands and full scans share samples).
   void sparse_scan(int u0, int v0, int u1, int v1);
+  // Starts fetching the pixels of [u0, u1] x [v0, v1] (inclusive, clipped)
+  // into the cache, so that several blobs' rows arrive from memory together.
+  void prefetch_box(int u0, int v0, int u1, int v1) const;
   // True when (u, v) is above the threshold and not yet part of a blob.
   bool is_free_object_pixel(int u, int v) const;
 
@@ -85,6 +88,7 @@ class Blobifier {
   const BlobifierConfig& config() const { return config_; }
 
  private:
+  static void prefetch_span(const uint8_t* p, int n);
   bool full_fill(int u, int v);
   bool axis_scan(int u, int v);
   // Threshold crossing of a run ending at `last` (inside) going in direction

@@ -72,6 +72,12 @@ const std::vector<Blob>& Trackifier::track(Blobifier& blobifier, const ImageView
     full_requested_ = false;
   } else {
     blobifier.begin_frame(image, threshold, scan);
+    // Fetch every old blob's neighbourhood and the side bands' samples at
+    // once: when the frame is not in the cache their memory latencies overlap.
+    const int m = config_.search_radius_px + 2;
+    for (const Blob& b : previous_) {
+      blobifier.prefetch_box(b.u_min - m, b.v_min - m, b.u_max + m, b.v_max + m);
+    }
     for (const Blob& b : previous_) {
       int su = 0, sv = 0;
       if (find_seed(blobifier, b.u, b.v, &su, &sv)) blobifier.expand_at(su, sv);
