@@ -131,6 +131,10 @@ struct PlannerConfig {
   // treated as failed (comm already retries; this guards against loss).
   double goal_timeout_factor = 2.0;
   double goal_timeout_slack_s = 2.0;
+  // After a failed goal the next waits failure_backoff_s, doubling with each
+  // further consecutive failure up to failure_backoff_max_s.
+  double failure_backoff_s = 0.25;
+  double failure_backoff_max_s = 2.0;
   // Look-ahead planner: saves searched ahead, candidates considered, budget.
   int lookahead_depth = 3;
   int lookahead_max_candidates = 8;

@@ -96,7 +96,7 @@ class PlanJob {
       if (!planner_->on_motion_done(goal_id, ok)) {
         spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", goal_id);
       } else if (!ok) {
-        spdlog::warn("goal {} failed; replanning", goal_id);
+        spdlog::debug("goal {} failed; replanning after a back-off", goal_id);
       }
     }
     const auto objects = objects_->latest();
@@ -267,11 +267,14 @@ int main(int argc, char** argv) {
                                       runtime.trigger("plan");
                                     });
     bus.subscribe<ephor::motion_done_t>(
-        ephor::channels::kMotionDone, [done, &runtime](const ephor::motion_done_t& msg) {
+        ephor::channels::kMotionDone,
+        [done, &runtime, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {
           done->push(msg.goal_id, msg.status == ephor::motion_done_t::STATUS_DONE);
-          if (msg.status != ephor::motion_done_t::STATUS_DONE) {
-            spdlog::warn("goal {} ended with status {}: {}", msg.goal_id,
-                         static_cast<int>(msg.status), msg.reason);
+          // The first failures in full, then every 100th (a broken arm fails every goal).
+          if (msg.status != ephor::motion_done_t::STATUS_DONE &&
+              (++*failures <= 20 || *failures % 100 == 0)) {
+            spdlog::warn("goal {} ended with status {}: {} ({} failed goals so far)", msg.goal_id,
+                         static_cast<int>(msg.status), msg.reason, *failures);
           }
           runtime.trigger("plan");  // send the next goal without waiting for objects
         });

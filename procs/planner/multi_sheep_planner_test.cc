@@ -142,7 +142,9 @@ TEST(MultiSheepPlannerTest, KeepsOneGoalOutstandingAndReplansAfterAFailedGoal) {
   EXPECT_FALSE(planner.plan(make_scene({kA, kB}, 600, 150, 0.1)).has_value());
   EXPECT_FALSE(planner.on_motion_done(g1->goal_id + 100, true));  // not ours
   EXPECT_TRUE(planner.on_motion_done(g1->goal_id, false));
-  const auto g2 = planner.plan(make_scene({kA, kB}, 650, 200, 0.5));
+  // The next goal after a short back-off (0.25 s from when the failure is seen).
+  EXPECT_FALSE(planner.plan(make_scene({kA, kB}, 650, 200, 0.5)).has_value());
+  const auto g2 = planner.plan(make_scene({kA, kB}, 650, 200, 0.8));
   ASSERT_TRUE(g2.has_value());
   EXPECT_GT(g2->goal_id, g1->goal_id);
   EXPECT_EQ(g2->plane, Plane::kElevation);
@@ -150,11 +152,32 @@ TEST(MultiSheepPlannerTest, KeepsOneGoalOutstandingAndReplansAfterAFailedGoal) {
   EXPECT_EQ(planner.status().goals_failed, 1);
   // No motion_done at all: after the timeout the goal counts as failed.
   EXPECT_FALSE(planner.plan(make_scene({kA, kB}, 650, 200, 1.0)).has_value());
-  const auto g3 = planner.plan(make_scene({kA, kB}, 650, 200, 60.0));
+  EXPECT_FALSE(planner.plan(make_scene({kA, kB}, 650, 200, 60.0)).has_value());  // back-off 0.5 s
+  const auto g3 = planner.plan(make_scene({kA, kB}, 650, 200, 60.6));
   ASSERT_TRUE(g3.has_value());
   EXPECT_GT(g3->goal_id, g2->goal_id);
   EXPECT_EQ(planner.status().goals_timed_out, 1);
   EXPECT_FALSE(planner.on_motion_done(g2->goal_id, true));  // late: ignored
+}
+
+// An arm that refuses everything is not flooded: the back-off doubles up to
+// 2 s, and one success resets it.
+TEST(MultiSheepPlannerTest, BacksOffFromAnArmThatKeepsFailing) {
+  MultiSheepPlanner planner{PlannerConfig{}};
+  std::vector<double> sent_at;
+  double now = 0.0;
+  for (int step = 0; step < 300 && sent_at.size() < 7; ++step, now += 0.05) {
+    if (const auto g = planner.plan(make_scene({kA}, 600, 150, now))) {
+      sent_at.push_back(now);
+      planner.on_motion_done(g->goal_id, false);
+    }
+  }
+  ASSERT_EQ(sent_at.size(), 7u);
+  const double expected[] = {0.25, 0.5, 1.0, 2.0, 2.0, 2.0};
+  for (size_t i = 0; i < 6; ++i) {
+    // One planning period (0.05 s) of rounding: the failure is seen on the next job.
+    EXPECT_NEAR(sent_at[i + 1] - sent_at[i], expected[i] + 0.05, 0.051) << "gap " << i;
+  }
 }
 
 // Moves the scene on by dt: sheep in straight lines, the arm where told.
@@ -338,7 +361,8 @@ TEST(MultiSheepPlannerTest, FailedLoweringRaisesFirst) {
   const auto lower = planner.plan(advance({kA}, 2.0, move->x_mm, move->y_mm, false, 2.0));
   ASSERT_TRUE(lower.has_value() && lower->plane == Plane::kObject);
   ASSERT_TRUE(planner.on_motion_done(lower->goal_id, false));
-  const auto next = planner.plan(advance({kA}, 3.0, move->x_mm, move->y_mm, false, 3.0));
+  EXPECT_FALSE(planner.plan(advance({kA}, 3.0, move->x_mm, move->y_mm, false, 3.0)).has_value());
+  const auto next = planner.plan(advance({kA}, 3.3, move->x_mm, move->y_mm, false, 3.3));
   ASSERT_TRUE(next.has_value());
   EXPECT_EQ(next->plane, Plane::kElevation);
   EXPECT_EQ(planner.status().phase, "raising");

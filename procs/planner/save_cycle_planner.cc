@@ -76,7 +76,13 @@ bool SaveCyclePlanner::on_motion_done(int64_t goal_id, bool succeeded) {
   if (!outstanding_ || outstanding_->goal.goal_id != goal_id) return false;
   outstanding_.reset();
   last_result_ = succeeded;
-  if (!succeeded) ++status_.goals_failed;
+  if (succeeded) {
+    consecutive_failures_ = 0;
+  } else {
+    ++status_.goals_failed;
+    ++consecutive_failures_;
+    backoff_pending_ = true;
+  }
   return true;
 }
 
@@ -105,8 +111,21 @@ std::optional<Goal> SaveCyclePlanner::plan(const Scene& raw) {
     outstanding_.reset();
     ++status_.goals_failed;
     ++status_.goals_timed_out;
+    ++consecutive_failures_;
+    backoff_pending_ = true;
     last_result_ = false;
   }
+  if (backoff_pending_) {
+    // A failing arm (refusals, faults) must not be flooded with goals:
+    // wait 0.25 s, 0.5 s, 1 s, ... (at most failure_backoff_max_s) after
+    // consecutive failures before the next.
+    backoff_pending_ = false;
+    const double wait = std::min(
+        config().failure_backoff_max_s,
+        config().failure_backoff_s * std::pow(2.0, std::min(consecutive_failures_ - 1, 10)));
+    retry_after_s_ = scene.now_s + wait;
+  }
+  if (scene.now_s < retry_after_s_) return std::nullopt;
   return step(scene);
 }
 

@@ -113,6 +113,9 @@ class SaveCyclePlanner : public Planner {
   double turn_deadline_s_ = 0.0;
   bool target_saved_ = false;
   bool ignores_other_sheep_ = false;
+  int consecutive_failures_ = 0;
+  bool backoff_pending_ = false;
+  double retry_after_s_ = -1e300;
   double body_over_tool_since_s_ = -1.0;    // -1: the target's body is not over the tool
   std::map<int, double> cooldown_until_s_;  // sheep id -> time it may be a candidate again
 };
