@@ -25,6 +25,16 @@ constexpr double kDriveAccelMmS2 = 300.0;
 constexpr double kLateralGripMmS2 = 500.0;
 constexpr double kTurnAccelRadS2 = 2.0;
 
+// The wool makes collisions elastic (paper 003, section 4.1: bare Lego sheep
+// clumped, woolled ones did not): a sheep driving into another body bounces
+// off it - its heading is reflected about the contact normal - when its
+// heading points into the obstacle by more than this (cosine).
+constexpr double kBounceMinApproach = 0.05;
+// A sheep that still makes less than this fraction of its speed for
+// kBlockedS (wedged between others) turns away by a random 90-180 degrees.
+constexpr double kBlockedSpeedFraction = 0.3;
+constexpr double kBlockedS = 2.0;
+
 // Keep new sheep this far from the corners when they enter (mm), so one does
 // not enter through one edge and leave through the next.
 constexpr double kEntryCornerMarginMm = 120.0;
@@ -81,13 +91,40 @@ struct World::Sheep {
   b2Body* body = nullptr;
   double drive_speed_mm_s = 0.0;
   double turn_rate_rad_s = 0.0;  // the wander process
+  double blocked_s = 0.0;        // how long it has been held up
   bool touched = false;          // the manipulator is touching it now
 };
+
+namespace {
+
+// Contacts that began during a Box2D step; bodies may not be changed inside
+// the step, so the bounces are applied after it.
+struct ContactStart {
+  b2Body* a;
+  b2Body* b;
+  Eigen::Vector2d normal;  // from a to b
+};
+
+class ContactRecorder : public b2ContactListener {
+ public:
+  void BeginContact(b2Contact* contact) override {
+    b2WorldManifold wm;
+    contact->GetWorldManifold(&wm);
+    starts.push_back(
+        {contact->GetFixtureA()->GetBody(), contact->GetFixtureB()->GetBody(),
+         Eigen::Vector2d(static_cast<double>(wm.normal.x), static_cast<double>(wm.normal.y))});
+  }
+  std::vector<ContactStart> starts;
+};
+
+}  // namespace
 
 struct World::Physics {
   explicit Physics(uint64_t seed) : world(b2Vec2(0.0f, 0.0f)), rng(seed) {
     world.SetAllowSleeping(false);
+    world.SetContactListener(&contacts);
   }
+  ContactRecorder contacts;  // outlives `world`, which points to it
   b2World world;
   b2Body* pedestal = nullptr;
   std::mt19937_64 rng;
@@ -181,6 +218,7 @@ int32_t World::create_sheep(double x_mm, double y_mm, double heading_rad, double
   auto s = std::make_unique<Sheep>();
   s->id = next_id_++;
   s->body = body;
+  body->GetUserData().pointer = reinterpret_cast<uintptr_t>(s.get());
   s->drive_speed_mm_s = speed_mm_s;
   sheep_.push_back(std::move(s));
   return sheep_.back()->id;
@@ -244,7 +282,48 @@ void World::step(double dt_s) {
 
 void World::physics_step(double dt_s) {
   for (auto& s : sheep_) drive(*s, dt_s);
+  physics_->contacts.starts.clear();
   physics_->world.Step(static_cast<float>(dt_s), kVelocityIterations, kPositionIterations);
+  for (const auto& c : physics_->contacts.starts) {
+    bounce(c.a, c.normal);
+    bounce(c.b, -c.normal);
+  }
+  for (auto& s : sheep_) unblock(*s, dt_s);
+}
+
+void World::set_heading(Sheep& s, double heading_rad) {
+  s.body->SetTransform(s.body->GetPosition(), static_cast<float>(heading_rad));
+  s.body->SetLinearVelocity(b2Vec2(to_units(s.drive_speed_mm_s * std::cos(heading_rad)),
+                                   to_units(s.drive_speed_mm_s * std::sin(heading_rad))));
+  s.body->SetAngularVelocity(0.0f);
+}
+
+void World::bounce(b2Body* body, const Eigen::Vector2d& into_obstacle) {
+  auto* s = reinterpret_cast<Sheep*>(body->GetUserData().pointer);
+  if (s == nullptr) return;  // the pedestal
+  const double a = static_cast<double>(body->GetAngle());
+  const Eigen::Vector2d fwd(std::cos(a), std::sin(a));
+  const double approach = fwd.dot(into_obstacle);
+  if (approach <= kBounceMinApproach) return;  // moving away from it, or grazing
+  const Eigen::Vector2d out = fwd - 2.0 * approach * into_obstacle;
+  set_heading(*s, std::atan2(out.y(), out.x()));
+}
+
+void World::unblock(Sheep& s, double dt_s) {
+  const double a = static_cast<double>(s.body->GetAngle());
+  const b2Vec2 v = s.body->GetLinearVelocity();
+  const double forward = to_mm(v.x) * std::cos(a) + to_mm(v.y) * std::sin(a);
+  if (forward >= kBlockedSpeedFraction * s.drive_speed_mm_s) {
+    s.blocked_s = 0.0;
+    return;
+  }
+  s.blocked_s += dt_s;
+  if (s.blocked_s < kBlockedS) return;
+  std::uniform_real_distribution<double> turn(0.5 * std::numbers::pi, std::numbers::pi);
+  std::bernoulli_distribution left(0.5);
+  const double t = turn(physics_->rng);
+  set_heading(s, wrap_angle(a + (left(physics_->rng) ? t : -t)));
+  s.blocked_s = 0.0;
 }
 
 void World::drive(Sheep& s, double dt_s) {
@@ -383,13 +462,30 @@ std::vector<SheepState> World::sheep() const {
 }
 
 double World::deepest_penetration_mm() const {
+  // Recomputed from the bodies' present transforms (the contact list's
+  // manifolds are a step old, and stale after a bounce turns a sheep).
   double deepest = 0.0;
-  for (b2Contact* c = physics_->world.GetContactList(); c != nullptr; c = c->GetNext()) {
-    if (!c->IsTouching()) continue;
+  const auto measure = [&](const b2Manifold& m, const b2Transform& xa, float ra,
+                           const b2Transform& xb, float rb) {
     b2WorldManifold wm;
-    c->GetWorldManifold(&wm);
-    for (int i = 0; i < c->GetManifold()->pointCount; ++i)
-      deepest = std::max(deepest, -to_mm(wm.separations[i]));
+    wm.Initialize(&m, xa, ra, xb, rb);
+    for (int i = 0; i < m.pointCount; ++i) deepest = std::max(deepest, -to_mm(wm.separations[i]));
+  };
+  const auto* column =
+      static_cast<const b2CircleShape*>(physics_->pedestal->GetFixtureList()->GetShape());
+  const b2Transform& xc = physics_->pedestal->GetTransform();
+  for (size_t i = 0; i < sheep_.size(); ++i) {
+    const b2Body* bi = sheep_[i]->body;
+    const auto* pi = static_cast<const b2PolygonShape*>(bi->GetFixtureList()->GetShape());
+    b2Manifold m;
+    b2CollidePolygonAndCircle(&m, pi, bi->GetTransform(), column, xc);
+    measure(m, bi->GetTransform(), pi->m_radius, xc, column->m_radius);
+    for (size_t j = i + 1; j < sheep_.size(); ++j) {
+      const b2Body* bj = sheep_[j]->body;
+      const auto* pj = static_cast<const b2PolygonShape*>(bj->GetFixtureList()->GetShape());
+      b2CollidePolygons(&m, pi, bi->GetTransform(), pj, bj->GetTransform());
+      measure(m, bi->GetTransform(), pi->m_radius, bj->GetTransform(), pj->m_radius);
+    }
   }
   return deepest;
 }

@@ -11,6 +11,12 @@
 // same config (seed included) and the same sequence of calls give the same
 // world, bit for bit.
 //
+// Collisions: the wool makes them elastic (paper 003, section 4.1: bare Lego
+// sheep clumped, woolled ones did not), so a sheep driving into another sheep
+// or the pedestal bounces off - its heading is reflected about the contact
+// normal. A sheep wedged for 2 s (under 30 % of its speed) turns away by a
+// random 90-180 degrees.
+//
 // Threading: not thread-safe; one owner calls everything.
 
 #include <cstdint>
@@ -21,6 +27,8 @@
 #include <Eigen/Core>
 
 #include "common/geometry/workcell.h"
+
+class b2Body;
 
 namespace ephor::sim {
 
@@ -119,6 +127,9 @@ class World {
   void build(uint64_t seed);
   void physics_step(double dt_s);
   void drive(Sheep& s, double dt_s);
+  void set_heading(Sheep& s, double heading_rad);
+  void bounce(b2Body* body, const Eigen::Vector2d& into_obstacle);
+  void unblock(Sheep& s, double dt_s);
   void check_touches();
   void check_escapes();
   void process_reentries();
