@@ -232,14 +232,23 @@ int main(int argc, char** argv) {
     options.done_margin_us = int64_t{done_margin_ms} * 1000;
     ephor::comm::GoalRelay relay(options);  // only the relay task touches it after start()
 
-    ephor::Bus bus(args.lcm_url, args.name);
+    // Everything the bus callbacks touch is declared before the bus, so it
+    // outlives the bus thread.
     Inbox<ephor::arm_goal_t> goals(256);
     Inbox<ephor::arm_ack_t> acks(1024);
     auto arm_state = std::make_shared<ephor::Mailbox<ephor::arm_state_t>>();
     ForeignSenders foreign_acks(ephor::channels::kArmAck);
     ForeignSenders foreign_states(ephor::channels::kArmState);
 
+    ephor::Bus bus(args.lcm_url, args.name);
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    // The callbacks also trigger `runtime`, which dies before `bus`; and
+    // TaskRuntime::stop() leaves the bus thread running. Stop the bus before
+    // either goes, also when an exception unwinds this scope.
+    struct StopBusFirst {
+      ephor::Bus& bus;
+      ~StopBusFirst() { bus.stop(); }
+    } stop_bus_first{bus};
     bus.subscribe<ephor::arm_goal_t>(ephor::channels::kArmGoal, [&](const ephor::arm_goal_t& m) {
       goals.push(m);
       runtime.trigger(kInputTask);
@@ -316,6 +325,7 @@ int main(int argc, char** argv) {
                  max_attempts, poll_ms);
     ephor::wait_for_shutdown_signal(duration_s);
     runtime.stop();
+    bus.stop();  // no callback after this: the counters below are final
 
     const ephor::comm::RelayCounters& c = relay.counters();
     spdlog::info(
