@@ -411,5 +411,32 @@ TEST_F(CommProcessTest, CrashedAndRestartedCommContinuesAboveTheArmsLastSeq) {
   });
 }
 
+TEST_F(CommProcessTest, AcksFromAnotherSenderAreIgnored) {
+  // An impostor answers every command at once with REJECTED; the real arm
+  // ignores the first two transmissions. If comm listened to the impostor the
+  // goal would end REJECTED after one attempt.
+  Bus impostor(url_, "mallory");
+  impostor.subscribe<arm_cmd_t>(channels::kArmCmd, [&impostor](const arm_cmd_t& m) {
+    arm_ack_t ack{};
+    ack.utime = wall_us();
+    ack.seq = m.seq;
+    ack.goal_id = m.goal_id;
+    ack.status = arm_ack_t::STATUS_REJECTED;
+    ack.reason = "impostor";
+    impostor.publish(channels::kArmAck, ack);
+  });
+  impostor.start();
+  arm_->ignore_first_transmissions(2);
+  send_goal(1, 200.0f);
+  const auto done = wait_done(1);
+  impostor.stop();
+  ASSERT_TRUE(done) << comm_log();
+  EXPECT_EQ(done->status, kStatusDone) << done->reason;
+  EXPECT_EQ(done->attempts, 3);
+  stop_comm();
+  EXPECT_NE(comm_log().find("ignored message from sender 'mallory'"), std::string::npos)
+      << comm_log();
+}
+
 }  // namespace
 }  // namespace ephor::comm
