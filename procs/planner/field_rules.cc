@@ -68,7 +68,7 @@ bool FieldRules::usable_point(double x_mm, double y_mm) const {
     return false;
   }
   return std::hypot(x_mm - config_.workcell.base_x_mm, y_mm - config_.workcell.base_y_mm) >=
-         config_.pedestal_keepout_mm;
+         config_.tool_keepout_mm;
 }
 
 bool FieldRules::intercept_in_field(const Intercept& ic, const Sheep& target) const {

@@ -1,7 +1,10 @@
 #include "procs/planner/field_rules.h"
 
+#include "common/arm/arm_workcell.h"
+
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -41,8 +44,40 @@ TEST(FieldRulesTest, UsablePointsAvoidTheEdgeAndThePedestal) {
   EXPECT_TRUE(rules.usable_point(100, 100));
   EXPECT_FALSE(rules.usable_point(5, 100));  // field margin 10 mm
   EXPECT_FALSE(rules.usable_point(1215, 100));
-  EXPECT_FALSE(rules.usable_point(609.5 + 100, 457));  // within 120 mm of the pedestal axis
-  EXPECT_TRUE(rules.usable_point(609.5 + 130, 457));
+  EXPECT_FALSE(rules.usable_point(609.5 + 300, 457));  // within 360 mm of the column
+  EXPECT_TRUE(rules.usable_point(609.5 + 370, 457));
+}
+
+// The keep-out radius matches what the PUMA can reach with the tool down
+// (common/arm): every usable point of the field on a 20 mm grid is reachable
+// in both planes, and a smaller radius would not do.
+TEST(FieldRulesTest, ToolKeepoutMatchesThePumasReach) {
+  const PlannerConfig config;
+  const FieldRules rules{config};
+  const auto& w = config.workcell;
+  int checked = 0;
+  for (double y = 10; y <= w.field_width_mm - 10; y += 20) {
+    for (double x = 10; x <= w.field_length_mm - 10; x += 20) {
+      if (!rules.usable_point(x, y)) continue;
+      const double theta = std::atan2(w.centre_y_mm() - y, w.centre_x_mm() - x);
+      ASSERT_TRUE(arm::reachable_tool_down(w, x, y, w.elevation_plane_z_mm, theta))
+          << "(" << x << ", " << y << ") elevation plane";
+      ASSERT_TRUE(arm::reachable_tool_down(w, x, y, w.object_plane_z_mm, theta))
+          << "(" << x << ", " << y << ") object plane";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1500);
+  // 320 mm from the column is out of reach in the elevation plane somewhere.
+  bool some_unreachable = false;
+  for (int k = 0; k < 36; ++k) {
+    const double a = k * 2.0 * std::numbers::pi / 36.0;
+    const double x = w.base_x_mm + 320.0 * std::cos(a);
+    const double y = w.base_y_mm + 320.0 * std::sin(a);
+    some_unreachable |= !arm::reachable_tool_down(
+        w, x, y, w.elevation_plane_z_mm, std::atan2(w.centre_y_mm() - y, w.centre_x_mm() - x));
+  }
+  EXPECT_TRUE(some_unreachable);
 }
 
 TEST(FieldRulesTest, OtherSheepNearUsesPredictedPositions) {

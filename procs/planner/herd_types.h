@@ -98,9 +98,13 @@ struct PlannerConfig {
   double min_sheep_speed_mm_s = 3.0;
   // Only sheep that leave within this time need saving "yet" (paper step 1).
   double save_horizon_s = std::numeric_limits<double>::infinity();
-  // The PUMA's pedestal: the tool cannot work within this radius of the
-  // field centre (the pedestal itself is 70 mm, plus the wrist).
-  double pedestal_keepout_mm = 120.0;
+  // The PUMA stands on a pedestal at the field centre and cannot hold the
+  // tool pointing down close to its own column: within about 340 mm of it in
+  // the elevation plane (z = 200 mm) and 140 mm in the object plane (z =
+  // 30 mm) there is no inverse kinematics solution (common/arm
+  // reachable_tool_down; field_rules_test checks these radii against it).
+  // Every point the tool is sent to lies outside tool_keepout_mm.
+  double tool_keepout_mm = 360.0;
   // Where the arm waits when no sheep needs saving: the lower-right corner
   // of the image (x max, y min in F), pulled in so the PUMA reaches it.
   double park_x_mm = 1219.0 - 60.0;

@@ -171,7 +171,9 @@ class PlanJob {
     msg.u = static_cast<float>(p.x());
     msg.v = static_cast<float>(p.y());
     msg.theta_rad = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
-    msg.max_speed_mm_s = static_cast<float>(arm_model_.speed_mm_s);
+    // The arm's own cap: --arm-speed-mm-s is what the planner assumes (set it
+    // lower than the cap to plan conservatively), not a request to slow down.
+    msg.max_speed_mm_s = 0.0f;
     msg.source_frame_utime = source_utime;
     msg.target_object = goal.target;
     bus_.publish(ephor::channels::kArmGoal, msg);
@@ -227,7 +229,8 @@ int main(int argc, char** argv) {
   app.add_option("--planner", kind, "single, multi or lookahead")
       ->check(CLI::IsMember(planner::planner_kinds()));
   app.add_option("--arm-speed-mm-s", arm_model.speed_mm_s,
-                 "end-effector speed the planner assumes and asks for, mm/s")
+                 "end-effector speed the planner assumes when timing intercepts, mm/s "
+                 "(goals ask for the arm's default speed)")
       ->check(CLI::Range(1.0, 5000.0));
   app.add_option("--calibration", calibration_path,
                  "image-to-field calibration (Protobuf text); default "

@@ -227,8 +227,21 @@ std::optional<Goal> SaveCyclePlanner::park(const Scene& scene) {
     return std::nullopt;
   }
   const double leg = std::min(1.0, std::max(config().park_leg_mm, 1.0) / dist);
-  return send(scene, Plane::kElevation, scene.arm.x_mm + leg * (px - scene.arm.x_mm),
-              scene.arm.y_mm + leg * (py - scene.arm.y_mm),
+  double x = scene.arm.x_mm + leg * (px - scene.arm.x_mm);
+  double y = scene.arm.y_mm + leg * (py - scene.arm.y_mm);
+  // A leg ending next to the column would be out of the arm's reach: push it
+  // out (the arm finds its own way around the column between legs).
+  const double bx = config().workcell.base_x_mm;
+  const double by = config().workcell.base_y_mm;
+  const double r = std::hypot(x - bx, y - by);
+  const double r_min = config().tool_keepout_mm + 10.0;
+  if (r < r_min) {
+    const double ux = r > 1e-6 ? (x - bx) / r : 0.0;
+    const double uy = r > 1e-6 ? (y - by) / r : -1.0;
+    x = bx + r_min * ux;
+    y = by + r_min * uy;
+  }
+  return send(scene, Plane::kElevation, x, y,
               std::atan2(rules_.centre_y_mm() - py, rules_.centre_x_mm() - px), -1,
               Phase::kParking);
 }
