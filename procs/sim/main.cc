@@ -177,6 +177,10 @@ int main(int argc, char** argv) {
       return 0;
     }
 
+    // Declared before the runtime so that they outlive its task threads.
+    ephor::camera_frame_t frame;
+    frame.width = camera.width();
+    frame.height = camera.height();
     ephor::Bus bus(args.lcm_url, args.name);
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
 
@@ -233,9 +237,6 @@ int main(int argc, char** argv) {
       }
     });
 
-    ephor::camera_frame_t frame;
-    frame.width = camera.width();
-    frame.height = camera.height();
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)),
                          [&p, &bus, &camera, &frame] {
                            ephor::sim::Scene scene;
