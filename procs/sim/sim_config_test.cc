@@ -1,6 +1,7 @@
 #include "procs/sim/sim_config.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -31,6 +32,16 @@ TEST(SimConfig, FileOverridesOnlyTheFieldsItSets) {
   EXPECT_EQ(c.camera.noise_sigma, 0.0);
   EXPECT_EQ(fps, 20.0);
   EXPECT_EQ(c.world.speed_spread, 0.2);  // untouched default
+}
+
+TEST(SimConfig, ExampleFileLoads) {
+  const char* src = std::getenv("EPHOR_SOURCE_DIR");
+  if (src == nullptr) GTEST_SKIP() << "EPHOR_SOURCE_DIR not set (run through ctest)";
+  SimulatorConfig c;
+  double fps = 0.0;
+  apply_config_file(std::string(src) + "/procs/sim/sim.example.pbtxt", c, fps);
+  EXPECT_EQ(c.world.sheep, 6);
+  EXPECT_EQ(fps, 30.0);
 }
 
 TEST(SimConfig, BadFilesAreReportedWithTheFileAndProblem) {
