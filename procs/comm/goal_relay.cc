@@ -8,6 +8,9 @@
 #include <fmt/format.h>
 
 namespace ephor::comm {
+namespace {
+constexpr int32_t kMaxSeqMoves = 2;  // fresh seqs per goal after a goal_id mismatch
+}  // namespace
 
 const char* to_string(Outcome outcome) {
   switch (outcome) {
@@ -126,10 +129,20 @@ void GoalRelay::on_ack(const Ack& ack, int64_t now_us) {
     InFlight& f = *in_flight_;
     if (ack.goal_id != f.goal.goal_id) {
       // The arm knows this seq as another goal's: it will never execute ours
-      // under it. Move the goal to a fresh seq; step() sends it.
+      // under it. Move the goal to a fresh seq; step() sends it. An arm that
+      // keeps answering with the wrong goal_id may be executing every seq, so
+      // give up after a few moves rather than resend the goal forever.
       ++counters_.acks_unknown;
       ++counters_.seq_conflicts;
       raise_next_seq(ack.seq);
+      if (++f.seq_moves > kMaxSeqMoves) {
+        finish(Outcome::kFailed,
+               fmt::format("the arm answered seq {} for goal {} instead of {} ({} times): acks do "
+                           "not match commands, not resending",
+                           ack.seq, ack.goal_id, f.goal.goal_id, f.seq_moves),
+               now_us);
+        return;
+      }
       f.seq = next_seq_++;
       f.phase = Phase::kDelivering;
       f.attempts = 0;

@@ -27,7 +27,8 @@
 // restarted comm never reuses a seq the arm has already executed. Until the
 // arm's state has been heard, goals are held (option wait_for_arm_state). If
 // the arm nevertheless answers the in-flight seq for another goal (it lost
-// track, or another comm ran), the goal moves to a fresh seq.
+// track, or another comm ran), the goal moves to a fresh seq; after two such
+// moves it ends FAILED (the arm's acks do not match its commands).
 //
 // Duplicates: a goal with the same (goal_id, planned_utime) as the pending,
 // the in-flight or a recently finished goal is ignored (a planner may
@@ -198,6 +199,7 @@ class GoalRelay {
     Phase phase = Phase::kDelivering;
     int32_t attempts = 0;       // transmissions before the first answer
     int32_t transmissions = 0;  // all transmissions incl. polls
+    int32_t seq_moves = 0;      // fresh seqs taken after goal_id mismatches
     int64_t first_sent_us = 0;
     int64_t last_sent_us = 0;
     int64_t done_deadline_us = 0;  // kExecuting only

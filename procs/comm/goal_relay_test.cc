@@ -327,6 +327,25 @@ TEST(GoalRelayTest, InFlightSeqAnsweredForAnotherGoalMovesToAFreshSeq) {
   EXPECT_EQ(relay.counters().seq_conflicts, 1);
 }
 
+TEST(GoalRelayTest, AnArmThatNeverEchoesTheGoalIdEndsTheGoalFailedInsteadOfResendingForever) {
+  GoalRelay relay = ready_relay();
+  relay.submit(make_goal(1), 0);
+  std::vector<int64_t> seqs;
+  std::optional<MotionDone> done;
+  for (int64_t t = 0; t < 5000 * kMs && !done; t += 10 * kMs) {
+    RelayOutput out = relay.step(t);
+    for (const Command& c : out.commands) {
+      if (seqs.empty() || seqs.back() != c.seq) seqs.push_back(c.seq);
+      relay.on_ack(Ack{c.seq, 0, AckStatus::kAccepted, "", 1.0f}, t);  // goal_id always 0
+    }
+    if (!out.done.empty()) done = out.done[0];
+  }
+  ASSERT_TRUE(done);
+  EXPECT_EQ(done->status, Outcome::kFailed);
+  EXPECT_NE(done->reason.find("acks do not match commands"), std::string::npos) << done->reason;
+  EXPECT_EQ(seqs.size(), 3u) << "the first seq and two moves";
+}
+
 TEST(GoalRelayTest, BadOptionsAreRefusedWithTheirName) {
   RelayOptions o;
   o.max_attempts = 0;
