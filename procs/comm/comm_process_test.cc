@@ -27,6 +27,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -95,9 +96,12 @@ class Recorder {
   std::condition_variable cv_;
 };
 
-// The arm's side of the contract: executes each seq at most once, answers a
-// repeated seq with its newest ack, and can ignore the first transmissions of
-// every seq to force retransmissions. Publishes arm state at 100 Hz.
+// The arm's side of the contract, as procs/arm implements it: a command is
+// (seq, utime), executed at most once; a repeat is answered with the newest
+// ack for it; a command not seen before that is older than 500 ms is refused
+// as stale. Losses are simulated two ways: the first transmissions of every
+// seq are not heard at all, or are executed but their acks are lost.
+// Publishes arm state at 100 Hz.
 class FakeArm {
  public:
   FakeArm(const std::string& url, Recorder& rec) : bus_(url, "arm"), rec_(rec) {
@@ -113,9 +117,13 @@ class FakeArm {
   void ignore_first_transmissions(int n) {
     rec_.update([&] { ignore_first_ = n; });
   }
+  void lose_first_acks(int n) {
+    rec_.update([&] { lose_first_acks_ = n; });
+  }
   // Caller holds the recorder's lock (use inside Recorder::wait/read).
   const std::vector<arm_cmd_t>& received() const { return received_; }
   const std::map<int64_t, int>& executions() const { return executions_; }
+  const std::map<int64_t, int>& executions_of_goal() const { return executions_of_goal_; }
   // Planner publish -> arm receipt of the goal's first command, us (one host's clock).
   const std::map<int64_t, int64_t>& first_cmd_latency_us() const { return first_cmd_latency_us_; }
 
@@ -129,24 +137,34 @@ class FakeArm {
       first_cmd_latency_us_.emplace(m.goal_id, arrival_us - m.source_frame_utime);
       received_.push_back(m);
       const int seen = ++transmissions_[m.seq];
-      if (seen <= ignore_first_) return;  // "lost"
-      auto it = last_ack_.find(m.seq);
-      if (it != last_ack_.end()) {
-        reply = it->second;
+      if (seen <= ignore_first_) return;  // the command was lost
+      const bool acks_lost = seen - ignore_first_ <= lose_first_acks_;
+      const std::pair<int64_t, int64_t> key{m.seq, m.utime};
+      auto it = ledger_.find(key);
+      if (it != ledger_.end()) {
+        if (!acks_lost) reply = it->second;
         return;
       }
-      ++executions_[m.seq];
       arm_ack_t ack{};
       ack.seq = m.seq;
       ack.goal_id = m.goal_id;
+      if (arrival_us - m.utime > 500'000) {
+        ack.status = arm_ack_t::STATUS_REJECTED;
+        ack.reason = "stale";
+        ledger_[key] = ack;
+        if (!acks_lost) reply = ack;
+        return;
+      }
+      ++executions_[m.seq];
+      ++executions_of_goal_[m.goal_id];
       ack.status = arm_ack_t::STATUS_ACCEPTED;
       ack.planned_duration_s = 0.05f;
-      reply = ack;
+      if (!acks_lost) reply = ack;
       // The motion is instantaneous here: DONE follows at once.
       ack.status = arm_ack_t::STATUS_DONE;
       ack.planned_duration_s = 0.0f;
-      last_ack_[m.seq] = ack;
-      done = ack;
+      ledger_[key] = ack;
+      if (!acks_lost) done = ack;
       last_done_seq_ = m.seq;
     });
     if (reply) publish_ack(*reply);
@@ -178,12 +196,14 @@ class FakeArm {
   std::thread state_thread_;
   bool stop_ = false;
   int ignore_first_ = 0;
+  int lose_first_acks_ = 0;
   int64_t last_done_seq_ = 0;
   std::map<int64_t, int64_t> first_cmd_latency_us_;
   std::vector<arm_cmd_t> received_;
   std::map<int64_t, int> transmissions_;
   std::map<int64_t, int> executions_;
-  std::map<int64_t, arm_ack_t> last_ack_;
+  std::map<int64_t, int> executions_of_goal_;
+  std::map<std::pair<int64_t, int64_t>, arm_ack_t> ledger_;  // (seq, utime) -> newest ack
 };
 
 class CommProcessTest : public ::testing::Test {
@@ -362,10 +382,25 @@ TEST_F(CommProcessTest, ArmIgnoringTheFirstTwoTransmissionsStillExecutesOnce) {
     const auto& cmds = arm_->received();
     ASSERT_GE(cmds.size(), 3u);
     for (const arm_cmd_t& c : cmds) EXPECT_EQ(c.seq, done->seq) << "one goal, one seq";
-    for (size_t i = 1; i < cmds.size(); ++i)
-      EXPECT_GT(cmds[i].utime, cmds[i - 1].utime) << "each retransmission carries a fresh time";
+    for (const arm_cmd_t& c : cmds)
+      EXPECT_EQ(c.utime, cmds.front().utime) << "every transmission carries the first send's time";
     EXPECT_EQ(arm_->executions().size(), 1u);
     EXPECT_EQ(arm_->executions().at(done->seq), 1) << "executed exactly once";
+  });
+}
+
+TEST_F(CommProcessTest, LostAcksAreRecoveredWithoutExecutingTheGoalAgain) {
+  // The arm executes the first transmission but its two answers are lost;
+  // the retransmission must be recognised as the same command.
+  arm_->lose_first_acks(2);
+  send_goal(1, 180.0f);
+  const auto done = wait_done(1);
+  ASSERT_TRUE(done) << "no MOTION_DONE for goal 1; comm log:\n" << comm_log();
+  EXPECT_EQ(done->status, kStatusDone) << done->reason;
+  EXPECT_EQ(done->attempts, 3);
+  rec_.read([&] {
+    EXPECT_EQ(arm_->executions_of_goal().at(1), 1) << "a retransmission was executed again";
+    EXPECT_EQ(arm_->executions().size(), 1u);
   });
 }
 

@@ -15,7 +15,8 @@
 //   submit() -> pending (newest wins: a newer goal replaces a pending one that
 //   was never sent; a goal already sent is not aborted, the newer one waits
 //   for it to end) -> in flight, phase kDelivering: the command is sent at
-//   once and again every retry interval, each with a fresh send time, until
+//   once and again every retry interval (the same command: the caller stamps
+//   every transmission of a seq with the wall time of its first send), until
 //   the arm answers or max_attempts sends went unanswered (TIMEOUT) ->
 //   phase kExecuting after ACCEPTED: the relay polls (re-sends the same seq)
 //   every poll interval so a lost DONE is recovered and the arm hears comm is
@@ -61,9 +62,11 @@ struct Goal {
   int32_t target_object = -1;      // object id served, -1 = none
 };
 
-// One transmission of an arm command (arm_cmd_t without header and utime: the
-// caller stamps the wall-clock send time, fresh for every transmission, because
-// the arm refuses stale commands).
+// One transmission of an arm command (arm_cmd_t without header and utime).
+// The caller stamps arm_cmd_t.utime with the wall time of the seq's first
+// send and repeats it unchanged in every retransmission and poll: the arm
+// identifies a command by (seq, utime) and refuses one it has not seen before
+// that is older than its max age.
 struct Command {
   int64_t seq = 0;
   Goal goal;

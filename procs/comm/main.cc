@@ -129,11 +129,30 @@ bool to_ack(const ephor::arm_ack_t& m, Ack& out, std::string& why) {
   return true;
 }
 
-ephor::arm_cmd_t to_cmd(const Command& c) {
+// arm_cmd_t.utime is the wall time of a seq's FIRST send, the same in every
+// retransmission and poll (lcmtypes/arm_cmd_t.lcm). The arm identifies a
+// command by (seq, utime), so that a restarted comm's seqs are not mistaken
+// for repeats, and checks the age of a command it has not seen yet. A fresh
+// utime per transmission would make every retransmission a new command, to be
+// executed again.
+class FirstSendStamp {
+ public:
+  int64_t utime_for(int64_t seq) {
+    if (seq != seq_) {
+      seq_ = seq;
+      utime_ = ephor::wall_us();
+    }
+    return utime_;
+  }
+
+ private:
+  int64_t seq_ = 0;
+  int64_t utime_ = 0;
+};
+
+ephor::arm_cmd_t to_cmd(const Command& c, int64_t first_sent_utime) {
   ephor::arm_cmd_t m{};
-  // Fresh for every transmission: the arm refuses commands older than its
-  // max age, so a retransmission must not carry the first send's time.
-  m.utime = ephor::wall_us();
+  m.utime = first_sent_utime;
   m.seq = c.seq;
   m.goal_id = c.goal.goal_id;
   m.plane = c.goal.plane;
@@ -272,6 +291,7 @@ int main(int argc, char** argv) {
     // Both tasks run this job; the mutex makes them one relay.
     std::mutex relay_mutex;
     uint64_t bad_acks = 0;  // guarded by relay_mutex
+    FirstSendStamp stamp;   // guarded by relay_mutex
     bool announced_arm = false;
     auto relay_job = [&] {
       std::lock_guard<std::mutex> lock(relay_mutex);
@@ -298,7 +318,7 @@ int main(int argc, char** argv) {
 
       ephor::comm::RelayOutput out = relay.step(now);
       for (const Command& c : out.commands) {
-        ephor::arm_cmd_t msg = to_cmd(c);
+        ephor::arm_cmd_t msg = to_cmd(c, stamp.utime_for(c.seq));
         bus.publish(ephor::channels::kArmCmd, msg);
       }
       for (const MotionDone& d : out.done) {
