@@ -29,11 +29,14 @@ AlphaBetaGains gains_for_tracking_index(double lambda) {
           (l2 + 4.0 * lambda - lambda * root) / 4.0};
 }
 
-AlphaBetaFilter::AlphaBetaFilter(AlphaBetaGains gains, double maneuver_gate)
-    : gains_(gains), maneuver_gate_(maneuver_gate) {
+AlphaBetaFilter::AlphaBetaFilter(AlphaBetaGains gains, double maneuver_gate, int maneuver_confirm)
+    : gains_(gains), maneuver_gate_(maneuver_gate), maneuver_confirm_(maneuver_confirm) {
   if (!(std::isfinite(maneuver_gate) && maneuver_gate >= 0.0))
     throw std::invalid_argument("manoeuvre gate must be finite and >= 0, got " +
                                 std::to_string(maneuver_gate));
+  if (maneuver_confirm < 1)
+    throw std::invalid_argument("manoeuvre confirmation must be >= 1 measurement, got " +
+                                std::to_string(maneuver_confirm));
   if (!(gains.alpha > 0.0 && gains.alpha <= 1.0 && gains.beta > 0.0 &&
         gains.beta < 4.0 - 2.0 * gains.alpha))
     throw std::invalid_argument("alpha-beta gains outside the stable region: alpha " +
@@ -41,20 +44,23 @@ AlphaBetaFilter::AlphaBetaFilter(AlphaBetaGains gains, double maneuver_gate)
                                 std::to_string(gains.beta));
 }
 
-AlphaBetaFilter::AlphaBetaFilter(const NoiseModel& noise, double maneuver_gate)
-    : AlphaBetaFilter(gains_for_tracking_index(tracking_index(noise)), maneuver_gate) {}
+AlphaBetaFilter::AlphaBetaFilter(const NoiseModel& noise, double maneuver_gate,
+                                 int maneuver_confirm)
+    : AlphaBetaFilter(gains_for_tracking_index(tracking_index(noise)), maneuver_gate,
+                      maneuver_confirm) {}
 
 void AlphaBetaFilter::predict(double dt_s) {
   if (!(std::isfinite(dt_s) && dt_s >= 0.0)) return;
   position_ += velocity_ * dt_s;
   since_update_s_ += dt_s;
+  clock_s_ += dt_s;
 }
 
 bool AlphaBetaFilter::update(const Eigen::Vector2d& z) {
   if (!z.allFinite()) return false;
   if (updates_ == 0) {
     position_ = z;
-    last_z_ = z;
+    remember(z);
     since_update_s_ = 0.0;
     updates_ = 1;
     return true;
@@ -62,18 +68,41 @@ bool AlphaBetaFilter::update(const Eigen::Vector2d& z) {
   // Two updates at the same instant carry no velocity information.
   if (!(since_update_s_ > 0.0)) {
     position_ += gains_.alpha * (z - position_);
-    last_z_ = z;
+    remember(z);
     return true;
   }
-  if (maneuver_gate_ > 0.0 && updates_ >= 3 &&
-      (z - position_).cwiseAbs().maxCoeff() > maneuver_gate_) {
-    // The measurement contradicts constant velocity: start again from the
-    // last two measurements.
-    restart(z, (z - last_z_) / since_update_s_);
-    last_z_ = z;
-    ++maneuvers_;
+  if (maneuver_gate_ > 0.0 && updates_ >= 3 && (z - position_).norm() > maneuver_gate_) {
+    ++outside_run_;
+    if (outside_run_ >= maneuver_confirm_) {
+      // The measurements keep contradicting constant velocity: start again
+      // from a least-squares line through the last three measurements.
+      remember(z);
+      const int n = recent_n_;
+      double t_mean = 0.0;
+      Eigen::Vector2d z_mean = Eigen::Vector2d::Zero();
+      for (int i = 0; i < n; ++i) {
+        t_mean += recent_t_[i] / n;
+        z_mean += recent_z_[i] / n;
+      }
+      double stt = 0.0;
+      Eigen::Vector2d stz = Eigen::Vector2d::Zero();
+      for (int i = 0; i < n; ++i) {
+        stt += (recent_t_[i] - t_mean) * (recent_t_[i] - t_mean);
+        stz += (recent_t_[i] - t_mean) * (recent_z_[i] - z_mean);
+      }
+      if (n >= 2 && stt > 0.0) {
+        const Eigen::Vector2d v = stz / stt;
+        restart(z_mean + v * (clock_s_ - t_mean), v);
+        ++maneuvers_;
+        return true;
+      }
+    }
+    // Not confirmed yet: hold it back (an outlier must not move the filter).
+    ++held_back_;
+    remember(z);
     return true;
   }
+  outside_run_ = 0;
   const double n = updates_ + 1;
   const double alpha = std::max(gains_.alpha, 2.0 * (2.0 * n - 1.0) / (n * (n + 1.0)));
   const double beta = std::max(gains_.beta, 6.0 / (n * (n + 1.0)));
@@ -81,24 +110,44 @@ bool AlphaBetaFilter::update(const Eigen::Vector2d& z) {
   position_ += alpha * residual;
   velocity_ += (beta / since_update_s_) * residual;
   since_update_s_ = 0.0;
-  last_z_ = z;
+  remember(z);
   ++updates_;
   return true;
+}
+
+void AlphaBetaFilter::remember(const Eigen::Vector2d& z) {
+  // Same instant as the newest: replace it (no time base for a slope).
+  if (recent_n_ > 0 && recent_t_[recent_n_ - 1] == clock_s_) {
+    recent_z_[recent_n_ - 1] = z;
+    return;
+  }
+  if (recent_n_ == 3) {
+    recent_z_[0] = recent_z_[1];
+    recent_t_[0] = recent_t_[1];
+    recent_z_[1] = recent_z_[2];
+    recent_t_[1] = recent_t_[2];
+    recent_n_ = 2;
+  }
+  recent_z_[recent_n_] = z;
+  recent_t_[recent_n_] = clock_s_;
+  ++recent_n_;
 }
 
 void AlphaBetaFilter::restart(const Eigen::Vector2d& position, const Eigen::Vector2d& velocity) {
   if (!position.allFinite() || !velocity.allFinite()) return;
   position_ = position;
   velocity_ = velocity;
-  last_z_ = position;
   since_update_s_ = 0.0;
+  outside_run_ = 0;
   updates_ = 2;
 }
 
 void AlphaBetaFilter::reset() {
   position_.setZero();
   velocity_.setZero();
-  last_z_.setZero();
+  recent_n_ = 0;
+  clock_s_ = 0.0;
+  outside_run_ = 0;
   since_update_s_ = 0.0;
   updates_ = 0;
 }
@@ -106,8 +155,11 @@ void AlphaBetaFilter::reset() {
 void AlphaBetaFilter::relocate(const Eigen::Vector2d& z) {
   if (!z.allFinite()) return;
   position_ = z;
-  last_z_ = z;
+  // A new track segment: older measurements say nothing about it.
+  recent_n_ = 0;
+  remember(z);
   since_update_s_ = 0.0;
+  outside_run_ = 0;
   if (updates_ == 0) updates_ = 1;
 }
 
@@ -130,7 +182,7 @@ DoubleAlphaBetaFilter::Params DoubleAlphaBetaFilter::Params::per_step() {
 
 DoubleAlphaBetaFilter::DoubleAlphaBetaFilter(const Params& params)
     : subsample_(params.subsample),
-      first_(params.first, params.maneuver_gate),
+      first_(params.first, params.maneuver_gate, params.maneuver_confirm),
       second_(params.second) {
   if (subsample_ < 1)
     throw std::invalid_argument("double alpha-beta filter: subsample must be >= 1, got " +

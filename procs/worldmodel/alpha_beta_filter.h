@@ -23,15 +23,14 @@
 // Manoeuvres (paper: a sheep turned round by the arm must show up in the
 // velocity "within two to three snapshots"). A filter smooth enough for 16 s
 // predictions needs tens of frames to follow a 180-degree turn, so the
-// filter watches its residual: when a measurement lands farther than
-// `maneuver_gate` (position units) from the prediction on either axis, the
-// constant-velocity hypothesis is dropped and the filter restarts from the
-// last two measurements, then settles again with the growing-memory gains.
-//
-// Start-up: the first update sets the position; later updates use the
-// least-squares "growing memory" gains alpha_n = 2(2n-1)/(n(n+1)),
-// beta_n = 6/(n(n+1)) while they exceed the steady-state ones, so the
-// filter settles in a few samples instead of ~1/alpha.
+// filter watches its residual: a measurement farther than `maneuver_gate`
+// (position units) from the prediction (Euclidean) is held back; when
+// `maneuver_confirm` such measurements come in a row, the constant-velocity
+// hypothesis is dropped and the filter restarts from a straight-line fit to
+// the last three measurements (the held-back ones and the one before them),
+// then settles again with the growing-memory gains. A single
+// wild measurement (a centroid pulled by the arm's edge, a noise blob) is
+// thus ignored rather than followed.
 //
 // Not thread-safe; one owner.
 
@@ -64,8 +63,11 @@ AlphaBetaGains gains_for_tracking_index(double lambda);
 class AlphaBetaFilter {
  public:
   // `maneuver_gate` in position units; 0 turns manoeuvre restarts off.
-  explicit AlphaBetaFilter(AlphaBetaGains gains, double maneuver_gate = 0.0);
-  explicit AlphaBetaFilter(const NoiseModel& noise, double maneuver_gate = 0.0);
+  // `maneuver_confirm` >= 1: out-of-gate measurements in a row that restart.
+  explicit AlphaBetaFilter(AlphaBetaGains gains, double maneuver_gate = 0.0,
+                           int maneuver_confirm = 2);
+  explicit AlphaBetaFilter(const NoiseModel& noise, double maneuver_gate = 0.0,
+                           int maneuver_confirm = 2);
 
   // Advances the state `dt_s` seconds at constant velocity (dt_s >= 0). The
   // next update() corrects the velocity over the total time predicted since
@@ -86,15 +88,26 @@ class AlphaBetaFilter {
   bool initialised() const { return updates_ > 0; }
   int updates() const { return updates_; }
   int maneuvers() const { return maneuvers_; }  // restarts so far
+  int held_back() const { return held_back_; }  // out-of-gate measurements not (yet) used
   const Eigen::Vector2d& position() const { return position_; }
   const Eigen::Vector2d& velocity() const { return velocity_; }
   const AlphaBetaGains& gains() const { return gains_; }
 
  private:
+  void remember(const Eigen::Vector2d& z);
+
   AlphaBetaGains gains_;
   double maneuver_gate_;
-  Eigen::Vector2d last_z_ = Eigen::Vector2d::Zero();  // the previous measurement
+  int maneuver_confirm_;
+  // The last three measurements and when they were taken (time of this
+  // filter's clock: the sum of predict() intervals), for manoeuvre restarts.
+  Eigen::Vector2d recent_z_[3];
+  double recent_t_[3] = {0.0, 0.0, 0.0};
+  int recent_n_ = 0;
+  double clock_s_ = 0.0;
+  int outside_run_ = 0;  // out-of-gate measurements in a row
   int maneuvers_ = 0;
+  int held_back_ = 0;
   Eigen::Vector2d position_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d velocity_ = Eigen::Vector2d::Zero();
   double since_update_s_ = 0.0;
@@ -114,6 +127,7 @@ class DoubleAlphaBetaFilter {
     NoiseModel second{kTable1Second.plant_noise, kTable1Second.measurement_noise, 3.0 / 30.0};
     int subsample = 3;           // the paper: every third point
     double maneuver_gate = 1.0;  // of the first filter, position units; 0 = off
+    int maneuver_confirm = 2;    // out-of-gate measurements in a row that restart
 
     // Table 1 with T = the frame period (first) and subsample * frame period
     // (second), manoeuvre gate `gate` (position units).

@@ -130,10 +130,12 @@ class Associate {
       int live = 0;
       for (const auto& o : out.objects) live += o.state != ephor::object_t::STATE_DEAD;
       spdlog::info(
-          "{} frames: {} objects live, {} created, {} died, {} re-acquired, {} merged blobs, "
+          "{} frames: {} objects live, {} created, {} died, {} re-acquired, {} merged / {} partly "
+          "hidden blobs, "
           "{} duplicate / {} out-of-order frames, {} bad blobs",
           after.frames, live, after.objects_created, after.objects_died, after.reacquired,
-          after.merges, after.duplicate_frames, after.out_of_order_frames, after.invalid_blobs);
+          after.merges, after.partial_blobs, after.duplicate_frames, after.out_of_order_frames,
+          after.invalid_blobs);
     }
   }
 

@@ -22,10 +22,12 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !finite_positive(c.obscured_gate_px) || !finite_nonneg(c.obscured_gate_growth_px_s) ||
       !(c.obscured_gate_max_px >= c.obscured_gate_px) || !(c.merge_area_ratio > 1.0) ||
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
+      !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
       !std::isfinite(c.mark_height_mm))
     throw std::invalid_argument(
         "world model config: gates, growth rates and times must be finite and positive, "
-        "obscured_gate_max_px >= obscured_gate_px, merge_area_ratio > 1");
+        "obscured_gate_max_px >= obscured_gate_px, merge_area_ratio > 1, "
+        "0 <= partial_area_ratio < 1");
   DoubleAlphaBetaFilter probe(c.filter);  // throws on bad filter parameters
   mark_map_ = calibration_.matrix_at_height(c.mark_height_mm);
 }
@@ -53,6 +55,14 @@ void WorldModel::see(Track& t, const Eigen::Vector2d& z, int area, bool reacquir
   t.estimate_px = t.seen_px;
   t.seen_s = now_s_;
   t.area_px = area;
+  if (area > t.usual_area_px)
+    t.usual_area_px = area;
+  else
+    t.usual_area_px += 0.05 * (area - t.usual_area_px);
+}
+
+bool WorldModel::partly_hidden(const Track& t, int area) const {
+  return area < config_.partial_area_ratio * t.usual_area_px;
 }
 
 void WorldModel::hide(Track& t) {
@@ -163,6 +173,11 @@ void WorldModel::stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>&
     }
     const auto b = static_cast<size_t>(blob_of[o]);
     taken[b] = true;
+    if (partly_hidden(t, areas[b])) {
+      ++counters_.partial_blobs;
+      hide(t);
+      continue;
+    }
     see(t, blobs[b], areas[b], false);
     if (!inside_field(t.filter.position())) kill(t);  // escaped
   }
@@ -197,6 +212,10 @@ void WorldModel::stage2_obscured(const std::vector<Eigen::Vector2d>& blobs,
   for (const Assignment& m : Associator::assign(predictions, blobs, taken)) {
     Track& t = *obscured[m.object];
     taken[m.blob] = true;
+    if (partly_hidden(t, areas[m.blob])) {
+      ++counters_.partial_blobs;  // still mostly under the arm: keep coasting
+      continue;
+    }
     ++counters_.reacquired;
     see(t, blobs[m.blob], areas[m.blob], true);
     if (!inside_field(t.filter.position())) kill(t);

@@ -7,7 +7,8 @@
 //      velocity * dt), so position and velocity must both be consistent. An
 //      object with no such blob becomes obscured. Two objects whose
 //      predictions fall on one blob much larger than either (their marks
-//      merged) both coast, obscured, until they separate.
+//      merged) both coast, obscured, until they separate; so does an object
+//      whose blob shrank (a mark partly under the arm).
 //   2. leftover blobs to obscured objects, with a gate that widens with the
 //      time obscured (the paper's widening "percent").
 //   3. obscured objects are dead-reckoned: last seen position + velocity *
@@ -84,6 +85,11 @@ struct WorldModelConfig {
   // A blob this many times an object's usual area, on which two objects'
   // predictions fall, is their two marks merged.
   double merge_area_ratio = 1.4;
+  // A blob smaller than this fraction of the object's usual area is a mark
+  // partly hidden by the arm: its centroid is pulled off the mark's centre
+  // (and slides as the arm's edge passes), so it is associated (it is no new
+  // sheep) but not measured; the object coasts as obscured.
+  double partial_area_ratio = 0.85;
   double max_obscured_s = 10.0;  // lost: stop dead-reckoning
   double report_dead_s = 2.0;    // keep reporting a dead object this long
 };
@@ -96,8 +102,9 @@ struct WorldModelCounters {
   int64_t blobs_outside_field = 0;  // left over and outside the field: no new object
   int64_t objects_created = 0;
   int64_t objects_died = 0;
-  int64_t reacquired = 0;  // stage 2 matches
-  int64_t merges = 0;      // objects sent to coast by a merged blob
+  int64_t reacquired = 0;     // stage 2 matches
+  int64_t partial_blobs = 0;  // blobs associated but not measured (partly hidden marks)
+  int64_t merges = 0;         // objects sent to coast by a merged blob
 };
 
 class WorldModel {
@@ -126,6 +133,7 @@ class WorldModel {
     double seen_s = 0.0;  // frame time when last seen
     double dead_s = 0.0;  // frame time of death
     int area_px = 0;
+    double usual_area_px = 0.0;  // follows rises at once, falls slowly
   };
 
   void stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>& blobs,
@@ -136,6 +144,7 @@ class WorldModel {
   void stage4_new(const std::vector<Eigen::Vector2d>& blobs, const std::vector<int>& areas,
                   const std::vector<bool>& taken);
   void see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire);
+  bool partly_hidden(const Track& t, int area) const;
   void hide(Track& t);
   void kill(Track& t);
   bool inside_field(const Eigen::Vector2d& px) const;

@@ -151,12 +151,12 @@ TEST(WorldModelTest, SheepTurnedRoundWhileHiddenIsReacquiredAndItsVelocityFollow
   // Turned at frame 105 under the arm: from there it walks back.
   const Eigen::Vector2d turn = out.at(105);
   const Sheep back{turn - Eigen::Vector2d(-kSpeed, 0) * (105 * kFrameUs * 1e-6), {-kSpeed, 0}};
-  feed(wm, {back}, 120, 124, rng);
+  feed(wm, {back}, 120, 125, rng);
   const auto a = by_id(wm, 1);
   ASSERT_TRUE(a);
   EXPECT_EQ(wm.counters().objects_created, 1);
   EXPECT_EQ(a->state, ObjectState::kVisible);
-  EXPECT_LT(a->velocity_px_s.x(), 0.0) << "velocity not reversed 4 frames after reappearing";
+  EXPECT_LT(a->velocity_px_s.x(), 0.0) << "velocity not reversed 5 frames after reappearing";
 }
 
 TEST(WorldModelTest, Stage4NewSheepEnteringGetsANewIdAndIdsAreNeverReused) {
