@@ -110,6 +110,28 @@ TEST(AlphaBetaFilterTest, ATurnReversesTheVelocityWithinAFewFrames) {
       frames_to_reverse(slow, [](const DoubleAlphaBetaFilter& f) { return f.velocity().x(); }), 20);
 }
 
+TEST(AlphaBetaFilterTest, ASingleWildMeasurementIsHeldBackNotFollowed) {
+  DoubleAlphaBetaFilter f;
+  double x = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    x += 11.0 * kDt;
+    f.predict(kDt);
+    f.update({x, 50.0});
+  }
+  x += 11.0 * kDt;
+  f.predict(kDt);
+  f.update({x, 55.0});  // 5 px off for one frame
+  for (int i = 0; i < 10; ++i) {
+    x += 11.0 * kDt;
+    f.predict(kDt);
+    f.update({x, 50.0});
+  }
+  EXPECT_EQ(f.first().maneuvers(), 0);
+  EXPECT_EQ(f.first().held_back(), 1);
+  EXPECT_NEAR(f.velocity().y(), 0.0, 0.05);
+  EXPECT_NEAR(f.position().y(), 50.0, 0.05);
+}
+
 TEST(AlphaBetaFilterTest, NonFiniteMeasurementIsIgnored) {
   AlphaBetaFilter f(kTable1First);
   f.update({1.0, 2.0});

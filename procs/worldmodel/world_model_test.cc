@@ -273,6 +273,34 @@ TEST(WorldModelTest, DuplicatedDroppedAndReorderedFramesCauseNoIdSwitch) {
   EXPECT_EQ(nearest(wm, sheep[1].at(199))->id, 2);
 }
 
+TEST(WorldModelTest, AMarkPartlyUnderTheArmIsNotMeasuredSoItsVelocitySurvives) {
+  // The arm's edge slides over the mark: the blob shrinks and its centroid is
+  // pulled sideways (here by up to 4 px, 12 px/s) before it vanishes.
+  auto wm = make_model();
+  std::mt19937 rng(11);
+  const Sheep s{{150, 200}, {kSpeed, 0}};
+  feed(wm, {s}, 0, 90, rng);
+  for (int f = 90; f < 100; ++f) {
+    const double k = (f - 89) / 10.0;
+    BlobFrame frame{.utime_us = 1'000'000 + f * kFrameUs, .frame_index = f, .blobs = {}};
+    frame.blobs.push_back(
+        {s.at(f) + Eigen::Vector2d(0, 4.0 * k), static_cast<int>(kArea * (1.0 - 0.6 * k))});
+    wm.process(frame);
+  }
+  feed(
+      wm, {s}, 100, 130, [](size_t, int) { return true; }, rng);  // hidden 1 s
+  const auto hidden = by_id(wm, 1);
+  ASSERT_TRUE(hidden);
+  EXPECT_EQ(hidden->state, ObjectState::kObscured);
+  EXPECT_GT(wm.counters().partial_blobs, 0);
+  EXPECT_NEAR(hidden->velocity_px_s.y(), 0.0, 0.5)
+      << "the sliding centroid leaked into the velocity";
+  EXPECT_LT((hidden->position_px - s.at(129)).norm(), 1.5);
+  feed(wm, {s}, 130, 140, rng);
+  EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kVisible);
+  EXPECT_EQ(wm.counters().objects_created, 1);
+}
+
 TEST(WorldModelTest, InvalidBlobsAreCountedAndIgnored) {
   auto wm = make_model();
   BlobFrame frame{.utime_us = 5, .frame_index = 0, .blobs = {}};
