@@ -19,6 +19,14 @@ int PeriodicRelease::advance(int64_t now_ns) {
   return static_cast<int>(behind);
 }
 
+void PeriodicRelease::align(int64_t anchor_ns, int64_t now_ns) {
+  // First anchor + k * period strictly after now (floor division for k).
+  int64_t k = (now_ns - anchor_ns) / period_ns_;
+  if (anchor_ns + k * period_ns_ > now_ns) --k;
+  while (anchor_ns + k * period_ns_ <= now_ns) ++k;
+  next_ns_ = anchor_ns + k * period_ns_;
+}
+
 void PeriodicRelease::set_period(int64_t period_ns) {
   if (period_ns <= 0) throw std::invalid_argument("PeriodicRelease: period must be > 0 ns");
   period_ns_ = period_ns;

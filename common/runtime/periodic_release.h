@@ -27,6 +27,12 @@ class PeriodicRelease {
   // Changes the period from the next release on (keeps the current phase).
   void set_period(int64_t period_ns);
 
+  // Call instead of advance() to lock the phase to an external event: the
+  // next release becomes the first anchor_ns + k * period after now_ns
+  // (k may be negative). Used to release a camera-rate task just after each
+  // frame arrives, like a frame grabber's vertical sync.
+  void align(int64_t anchor_ns, int64_t now_ns);
+
  private:
   int64_t next_ns_;
   int64_t period_ns_;

@@ -40,6 +40,19 @@ TEST(PeriodicRelease, PeriodChangeKeepsPhase) {
   EXPECT_EQ(r.next_release_ns(), 35 * kMs);
 }
 
+TEST(PeriodicRelease, AlignLocksThePhaseToAnAnchor) {
+  PeriodicRelease r(0, 10 * kMs);
+  // A frame arrived at 23.5 ms; the job ended at 25 ms: next release 33.5 ms.
+  r.align(23'500'000, 25 * kMs);
+  EXPECT_EQ(r.next_release_ns(), 33'500'000);
+  // An anchor in the future (the frame expected 4 ms from now) is used as is.
+  r.align(40 * kMs, 36 * kMs);
+  EXPECT_EQ(r.next_release_ns(), 40 * kMs);
+  // An old anchor: the first phase-aligned release after now.
+  r.align(1 * kMs, 95 * kMs);
+  EXPECT_EQ(r.next_release_ns(), 101 * kMs);
+}
+
 TEST(PeriodicRelease, RejectsNonPositivePeriod) {
   EXPECT_THROW(PeriodicRelease(0, 0), std::invalid_argument);
   PeriodicRelease r(0, 1);

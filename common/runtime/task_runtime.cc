@@ -53,6 +53,7 @@ struct TaskRuntime::Task {
   std::string rt_error;
   bool stop = false;
   bool state_changed = false;  // assignment applied since the last published batch
+  int64_t anchor_ns = 0;       // pending release anchor (align_release), 0 = none
 };
 
 TaskRuntime::TaskRuntime(Bus& bus, RuntimeOptions options) : bus_(bus), options_(std::move(options)) {
@@ -107,6 +108,13 @@ void TaskRuntime::trigger(const std::string& task) {
     }
   }
   t->cv.notify_all();
+}
+
+void TaskRuntime::align_release(const std::string& task, int64_t anchor_mono_ns) {
+  Task* t = find(task);
+  if (t == nullptr || !t->periodic) return;
+  std::lock_guard<std::mutex> lock(t->mutex);
+  t->anchor_ns = anchor_mono_ns;
 }
 
 void TaskRuntime::start() {
@@ -263,17 +271,25 @@ void TaskRuntime::task_main(Task& task) {
     rec.cpu_us = static_cast<int32_t>(to_us(end_cpu_ns - start_cpu_ns));
     int64_t deadline_ns = 0;
     int64_t period_ns = 0;
+    int64_t anchor_ns = 0;
     {
       std::lock_guard<std::mutex> lock(task.mutex);
       deadline_ns = task.deadline_ns;
       period_ns = task.period_ns;
+      anchor_ns = task.anchor_ns;
+      task.anchor_ns = 0;
     }
     rec.deadline_met = end_ns <= release_ns + deadline_ns;
     rec.cpu = cpu;
     rec.skipped_releases = skipped;
     if (task.periodic) {
       if (period_ns != release.period_ns()) release.set_period(period_ns);
-      skipped = release.advance(mono_ns());
+      if (anchor_ns > 0) {
+        release.align(anchor_ns, mono_ns());
+        skipped = 0;
+      } else {
+        skipped = release.advance(mono_ns());
+      }
     }
     {
       std::lock_guard<std::mutex> lock(task.mutex);

@@ -67,6 +67,13 @@ class TaskRuntime {
   // Releases one job of a triggered task of this process. Any thread.
   void trigger(const std::string& task);
 
+  // Locks a periodic task's release phase to an external event: after its
+  // current job, the task is released at anchor_mono_ns + k * period (the
+  // first such time after the job ends). Call on every event (e.g. each
+  // camera frame's arrival plus a small lag) to keep the phase locked. Any
+  // thread.
+  void align_release(const std::string& task, int64_t anchor_mono_ns);
+
   // Locks memory, subscribes to the scheduler, starts the bus thread and one
   // thread per task.
   void start();

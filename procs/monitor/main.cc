@@ -18,6 +18,7 @@
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "ephor/arm_cmd_t.hpp"
+#include "ephor/arm_goal_t.hpp"
 #include "ephor/blobs_t.hpp"
 #include "ephor/ground_truth_t.hpp"
 #include "ephor/objects_t.hpp"
@@ -57,14 +58,18 @@ int main(int argc, char** argv) {
     });
     bus.subscribe<blobs_t>(channels::kBlobs, [&](const blobs_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      mon.on_blobs(m.utime, wall_us());
+      mon.on_blobs(m.utime, m.header.utime, wall_us());
     });
     bus.subscribe<objects_t>(channels::kObjects, [&](const objects_t& m) {
       std::vector<monitor::TrackedObject> objs;
       for (const auto& o : m.objects)
         objs.push_back({o.id, o.state == object_t::STATE_VISIBLE, o.state == object_t::STATE_DEAD, o.x_mm, o.y_mm, o.u, o.v});
       std::lock_guard<std::mutex> lock(mutex);
-      mon.on_objects(m.utime, objs, wall_us());
+      mon.on_objects(m.utime, m.header.utime, objs, wall_us());
+    });
+    bus.subscribe<arm_goal_t>(channels::kArmGoal, [&](const arm_goal_t& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      mon.on_arm_goal(m.source_frame_utime, m.header.utime);
     });
     std::set<std::pair<std::string, int64_t>> seen_cmds;  // (sender, seq): retransmissions are not new commands
     bus.subscribe<arm_cmd_t>(channels::kArmCmd, [&](const arm_cmd_t& m) {

@@ -37,6 +37,8 @@ nlohmann::json Summary::to_json() const {
   j["rt"] = rt;
   j["scheduler_seen"] = have_sched_status;
   j["arm_commands"] = arm_commands;
+  for (const auto& st : stages)
+    j["pipeline_latency_ms"][st.name] = {{"p50", st.p50_ms}, {"p99", st.p99_ms}, {"samples", st.samples}};
   return j;
 }
 
@@ -50,10 +52,25 @@ void RunMonitor::on_truth(const Truth& truth) {
   while (truths_.size() > 120) truths_.pop_front();
 }
 
-void RunMonitor::on_blobs(int64_t /*frame_utime*/, int64_t now_us) { push_time(blob_times_, now_us); }
+namespace {
+void add_latency(RollingStats& stats, int64_t from_us, int64_t to_us) {
+  if (from_us > 0 && to_us >= from_us) stats.add(static_cast<double>(to_us - from_us) / 1000.0);
+}
+}  // namespace
 
-void RunMonitor::on_objects(int64_t frame_utime, const std::vector<TrackedObject>& objects, int64_t now_us) {
+void RunMonitor::on_blobs(int64_t frame_utime, int64_t published_us, int64_t now_us) {
+  push_time(blob_times_, now_us);
+  add_latency(blobs_ms_, frame_utime, published_us);
+}
+
+void RunMonitor::on_arm_goal(int64_t source_frame_utime, int64_t published_us) {
+  add_latency(goal_ms_, source_frame_utime, published_us);
+}
+
+void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us, const std::vector<TrackedObject>& objects,
+                            int64_t now_us) {
   push_time(object_times_, now_us);
+  add_latency(objects_ms_, frame_utime, published_us);
   const Truth* truth = nullptr;
   for (const auto& t : truths_)
     if (t.utime == frame_utime) truth = &t;
@@ -83,8 +100,7 @@ void RunMonitor::on_objects(int64_t frame_utime, const std::vector<TrackedObject
 
 void RunMonitor::on_arm_command(int64_t source_frame_utime, int64_t sent_us) {
   ++arm_commands_;
-  if (source_frame_utime > 0 && sent_us >= source_frame_utime)
-    latency_ms_.add(static_cast<double>(sent_us - source_frame_utime) / 1000.0);
+  add_latency(latency_ms_, source_frame_utime, sent_us);
 }
 
 void RunMonitor::on_sched_status(bool rt, int64_t deadline_misses_total) {
@@ -112,6 +128,11 @@ Summary RunMonitor::summary(int64_t now_us) const {
   s.rt = rt_;
   s.have_sched_status = have_sched_;
   s.arm_commands = arm_commands_;
+  auto stage = [](const char* name, const RollingStats& r) {
+    return Summary::Stage{name, r.percentile(50), r.percentile(99), static_cast<int64_t>(r.size())};
+  };
+  s.stages = {stage("blobs", blobs_ms_), stage("objects", objects_ms_), stage("arm_goal", goal_ms_),
+              stage("arm_cmd", latency_ms_)};
   return s;
 }
 

@@ -60,6 +60,13 @@ struct Summary {
   bool rt = false;
   bool have_sched_status = false;
   int64_t arm_commands = 0;
+  // Frame capture to each stage's output (p50, p99 in ms): where latency goes.
+  struct Stage {
+    std::string name;
+    double p50_ms = 0, p99_ms = 0;
+    int64_t samples = 0;
+  };
+  std::vector<Stage> stages;
   nlohmann::json to_json() const;
 };
 
@@ -68,8 +75,11 @@ class RunMonitor {
   explicit RunMonitor(std::string scenario, double match_radius_mm = 40.0);
 
   void on_truth(const Truth& truth);
-  void on_blobs(int64_t frame_utime, int64_t now_us);
-  void on_objects(int64_t frame_utime, const std::vector<TrackedObject>& objects, int64_t now_us);
+  // `published_us`: the message's header time (sender's publish time).
+  void on_blobs(int64_t frame_utime, int64_t published_us, int64_t now_us);
+  void on_objects(int64_t frame_utime, int64_t published_us, const std::vector<TrackedObject>& objects,
+                  int64_t now_us);
+  void on_arm_goal(int64_t source_frame_utime, int64_t published_us);
   // An arm command left comm at `sent_us`, planned from the frame captured at
   // `source_frame_utime` (both wall clock of this host, us).
   void on_arm_command(int64_t source_frame_utime, int64_t sent_us);
@@ -90,6 +100,7 @@ class RunMonitor {
   int64_t err_n_ = 0;
   std::deque<int64_t> blob_times_, object_times_;  // receive times in the last 5 s
   RollingStats latency_ms_{100000};
+  RollingStats blobs_ms_{100000}, objects_ms_{100000}, goal_ms_{100000};
   int64_t arm_commands_ = 0;
   int64_t deadline_misses_ = 0;
   bool rt_ = false;

@@ -26,23 +26,23 @@ TrackedObject obj(int32_t id, double x, double y) {
 TEST(RunMonitor, CountsAnIdSwitchWhenTheMatchedObjectChanges) {
   RunMonitor m("test");
   m.on_truth(truth_at(1000, 100, 100));
-  m.on_objects(1000, {obj(7, 102, 100)}, 1000);
+  m.on_objects(1000, 0, {obj(7, 102, 100)}, 1000);
   m.on_truth(truth_at(2000, 110, 100));
-  m.on_objects(2000, {obj(7, 111, 100)}, 2000);
+  m.on_objects(2000, 0, {obj(7, 111, 100)}, 2000);
   EXPECT_EQ(m.summary(2000).id_switches, 0);
   m.on_truth(truth_at(3000, 120, 100));
-  m.on_objects(3000, {obj(9, 120, 101)}, 3000);  // same sheep, new id
+  m.on_objects(3000, 0, {obj(9, 120, 101)}, 3000);  // same sheep, new id
   EXPECT_EQ(m.summary(3000).id_switches, 1);
 }
 
 TEST(RunMonitor, HiddenSheepAndFarObjectsAreNotMatched) {
   RunMonitor m("test", 40.0);
   m.on_truth(truth_at(1000, 100, 100));
-  m.on_objects(1000, {obj(7, 100, 100)}, 1000);
+  m.on_objects(1000, 0, {obj(7, 100, 100)}, 1000);
   m.on_truth(truth_at(2000, 100, 100, /*visible=*/false));
-  m.on_objects(2000, {obj(8, 100, 100)}, 2000);  // hidden: not scored
+  m.on_objects(2000, 0, {obj(8, 100, 100)}, 2000);  // hidden: not scored
   m.on_truth(truth_at(3000, 100, 100));
-  m.on_objects(3000, {obj(8, 200, 100)}, 3000);  // 100 mm away: no match
+  m.on_objects(3000, 0, {obj(8, 200, 100)}, 3000);  // 100 mm away: no match
   EXPECT_EQ(m.summary(3000).id_switches, 0);
 }
 

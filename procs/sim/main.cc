@@ -47,7 +47,9 @@ namespace {
 
 using ephor::sim::JointTrajectory;
 
-constexpr double kPhysicsStepS = 0.004;
+// 1 ms steps: the camera renders the world at most 1 ms older than its
+// capture time stamp (4 ms steps made frames up to 4 ms stale).
+constexpr double kPhysicsStepS = 0.001;
 constexpr double kMaxLagS = 0.5;  // beyond this the simulation skips ahead instead of catching up
 
 // joint_trajectory_t -> struct; nullopt (and `why`) when its sizes do not match.
@@ -222,9 +224,9 @@ int main(int argc, char** argv) {
     p.wall0_us = ephor::wall_us();
     p.mono0_ns = ephor::mono_ns();
 
-    runtime.add_periodic("physics", std::chrono::milliseconds(4), [&p] {
+    // Steps the world up to the present (caller holds p.mutex).
+    auto advance_to_now = [&p] {
       const double now_s = static_cast<double>(ephor::mono_ns() - p.mono0_ns) * 1e-9;
-      std::lock_guard<std::mutex> lock(p.mutex);
       if (now_s - p.clock_s > kMaxLagS) {
         // Starved (debugger, overload): skip ahead rather than run a burst.
         ++p.physics_skips;
@@ -235,14 +237,21 @@ int main(int argc, char** argv) {
         p.sim.step(kPhysicsStepS);
         p.clock_s += kPhysicsStepS;
       }
+    };
+    runtime.add_periodic("physics", std::chrono::milliseconds(4), [&p, &advance_to_now] {
+      std::lock_guard<std::mutex> lock(p.mutex);
+      advance_to_now();
     });
 
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)),
-                         [&p, &bus, &camera, &frame] {
+                         [&p, &bus, &camera, &frame, &advance_to_now] {
                            ephor::sim::Scene scene;
                            int64_t utime = 0;
                            {
                              std::lock_guard<std::mutex> lock(p.mutex);
+                             // Expose the world as it is now, not as of the
+                             // last physics job (up to 4 ms old).
+                             advance_to_now();
                              scene = p.sim.scene();
                              utime = p.utime_of(p.clock_s);
                            }

@@ -226,6 +226,9 @@ int main(int argc, char** argv) {
   app.add_option("--fraction", cfg.threshold.fraction,
                  "threshold position between field and mark peaks (0..1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  double phase_lag_ms = 1.0;
+  app.add_option("--phase-lag-ms", phase_lag_ms,
+                 "release the periodic task this long after each frame arrives (< 0: free-running phase)");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
 
@@ -238,15 +241,20 @@ int main(int argc, char** argv) {
     ephor::vision::VisionPipeline pipeline(cfg, settings);  // throws naming a bad flag
 
     ephor::Bus bus(args.lcm_url, args.name);
+    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    const int64_t lag_ns = static_cast<int64_t>(phase_lag_ms * 1e6);
     auto frames = std::make_shared<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>>();
     bus.subscribe<ephor::camera_frame_t>(
-        ephor::channels::kCamera, [frames](const ephor::camera_frame_t& m) {
+        ephor::channels::kCamera, [frames, &runtime, lag_ns](const ephor::camera_frame_t& m) {
           // One copy out of LCM's decode buffer; the task then takes a pointer.
-          frames->put(std::make_shared<const ReceivedFrame>(ReceivedFrame{m, ephor::mono_ns()}));
+          const int64_t now = ephor::mono_ns();
+          frames->put(std::make_shared<const ReceivedFrame>(ReceivedFrame{m, now}));
+          // Keep the periodic task's phase locked just after frame arrival, so
+          // a frame does not wait up to a whole period in the mailbox.
+          if (lag_ns >= 0) runtime.align_release("vision", now + lag_ns);
         });
     auto commands = bus.mailbox<ephor::vision_cmd_t>(ephor::channels::kVisionCmd);
 
-    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     VisionTask task(bus, pipeline, frames, commands);
     runtime.add_periodic("vision", std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6)),
                          [&task] { task.run_job(); });
