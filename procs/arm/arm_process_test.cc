@@ -173,6 +173,31 @@ TEST_F(ArmProcessTest, JointSpaceMoveIsFollowedByTheServoAndReportsDone) {
   });
 }
 
+// The planner re-targets: a newer command replaces the motion in progress;
+// the old one is acknowledged FAILED with the reason, the new one DONE.
+TEST_F(ArmProcessTest, NewerCommandReplacesTheMotionInProgress) {
+  arm_cmd_t first = command_at(31, 1100.0, 800.0, arm_goal_t::PLANE_ELEVATION);
+  bus_.publish(channels::kArmCmd, first);
+  ASSERT_TRUE(wait_until([&] { return ack_for(31, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
+  ASSERT_TRUE(
+      wait_until([&] { return locked([&] { return seen_.state->speed_mm_s > 50.0f; }); }, 5s));
+  arm_cmd_t second = command_at(32, 1000.0, 100.0, arm_goal_t::PLANE_ELEVATION);
+  bus_.publish(channels::kArmCmd, second);
+  ASSERT_TRUE(wait_until([&] { return ack_for(31, arm_ack_t::STATUS_FAILED).has_value(); }, 5s));
+  EXPECT_EQ(ack_for(31, arm_ack_t::STATUS_FAILED)->reason, "replaced by command seq 32");
+  ASSERT_TRUE(wait_until([&] { return ack_for(32, arm_ack_t::STATUS_DONE).has_value(); }, 20s))
+      << (ack_for(32, arm_ack_t::STATUS_FAILED) ? ack_for(32, arm_ack_t::STATUS_FAILED)->reason
+                                                : std::string("no DONE"));
+  EXPECT_FALSE(ack_for(31, arm_ack_t::STATUS_DONE).has_value());
+  ASSERT_TRUE(
+      wait_until([&] { return locked([&] { return seen_.state->last_done_seq == 32; }); }, 2s));
+  locked([&] {
+    EXPECT_NEAR(seen_.state->x_mm, 1000.0f, 2.0f);
+    EXPECT_NEAR(seen_.state->y_mm, 100.0f, 2.0f);
+    return 0;
+  });
+}
+
 TEST_F(ArmProcessTest, RefusesBadCommandsAndDoesNotMove) {
   const std::vector<double> before = joints();
   const int64_t trajectories = locked([&] { return seen_.trajectories; });

@@ -12,6 +12,7 @@ void ExecutionMonitor::start(int64_t cmd_seq, int64_t goal_id, int64_t trajector
   trajectory_seq_ = trajectory_seq;
   goal_q_ = goal_q;
   planned_duration_s_ = planned_duration_s;
+  started_us_ = now_us;
   deadline_us_ =
       now_us + static_cast<int64_t>(
                    (planned_duration_s * config_.timeout_factor + config_.timeout_slack_s) * 1e6);
@@ -34,12 +35,14 @@ ArmAck ExecutionMonitor::finish(AckStatus status, std::string reason) {
 
 std::optional<ArmAck> ExecutionMonitor::on_servo(const ServoState& servo, int64_t now_us) {
   if (!busy_) return std::nullopt;
-  if (servo.fault) {
+  const bool ours = servo.trajectory_seq == trajectory_seq_;
+  if (servo.fault &&
+      (ours || now_us - started_us_ > static_cast<int64_t>(config_.foreign_fault_grace_s * 1e6))) {
     return finish(AckStatus::kFailed,
                   "servo fault: " + (servo.fault_reason.empty() ? std::string("(no reason given)")
                                                                 : servo.fault_reason));
   }
-  if (servo.trajectory_seq == trajectory_seq_ && servo.trajectory_done) {
+  if (ours && servo.trajectory_done && !servo.fault) {
     const Joints err = (servo.q - goal_q_).cwiseAbs();
     int worst = 0;
     const double max_err = err.maxCoeff(&worst);

@@ -20,6 +20,10 @@ struct ExecutionConfig {
   // Timeout = planned duration * factor + slack.
   double timeout_factor = 1.5;
   double timeout_slack_s = 2.0;
+  // A fault reported for another trajectory (the servo's latched fault of an
+  // earlier motion, before it has taken the new trajectory) ends the motion
+  // only after this grace period, s.
+  double foreign_fault_grace_s = 0.3;
 };
 
 class ExecutionMonitor {
@@ -56,6 +60,7 @@ class ExecutionMonitor {
   Joints goal_q_ = Joints::Zero();
   double planned_duration_s_ = 0.0;
   int64_t deadline_us_ = 0;
+  int64_t started_us_ = 0;
   int64_t last_done_seq_ = 0;
   int plane_ = -1;
   int last_done_plane_ = -1;

@@ -63,6 +63,20 @@ TEST(ExecutionMonitorTest, FailsOnFaultOffTargetAndTimeout) {
   EXPECT_EQ(m.last_done_seq(), 0);
 }
 
+TEST(ExecutionMonitorTest, LatchedFaultOfAnEarlierTrajectoryIsNotOursAtFirst) {
+  ExecutionMonitor m;
+  const Joints goal = Joints::Constant(0.5);
+  m.start(8, 8, 9, goal, 1.0, kT0);
+  ServoState old_fault = servo_at(Joints::Zero(), 8, false);
+  old_fault.fault = true;
+  old_fault.fault_reason = "trajectory 8: joint 1 at its limit";
+  EXPECT_FALSE(m.on_servo(old_fault, kT0 + 4'000));  // the servo has not taken trajectory 9 yet
+  EXPECT_TRUE(m.busy());
+  const auto ack = m.on_servo(old_fault, kT0 + 400'000);  // still not taken after the grace
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, AckStatus::kFailed);
+}
+
 TEST(ExecutionMonitorTest, PreemptedMotionFailsWithTheNewSeq) {
   ExecutionMonitor m;
   EXPECT_FALSE(m.preempt(5));
