@@ -241,7 +241,7 @@ std::vector<MarkView> CameraRenderer::mark_views(const std::vector<SheepState>& 
 
 std::vector<MarkView> CameraRenderer::render(const std::vector<SheepState>& sheep,
                                              const std::vector<ArmPart>& arm,
-                                             std::vector<uint8_t>& image) {
+                                             std::vector<uint8_t>& image, const ToolLight* light) {
   const auto& cam = config_.camera;
   scene_ = background_;
   // Bodies first (footprint of the body's top at body height), then the marks.
@@ -260,6 +260,11 @@ std::vector<MarkView> CameraRenderer::render(const std::vector<SheepState>& shee
   for (const auto& mv : views) blend_disc(mv.centre_px, mv.radius_px, config_.mark_level);
   // The arm is above everything on the table: drawn last, it hides what it covers.
   for (const auto& part : arm) blend_capsule(project(part), config_.arm_level);
+  if (light != nullptr && light->radius_px > 0.0) {
+    const auto& t = light->tip_mm;
+    if (t.allFinite() && t.z() < cam.height_mm)
+      blend_disc(cam.project(t.x(), t.y(), t.z()), light->radius_px, light->level);
+  }
 
   const size_t n = scene_.size();
   image.resize(n);

@@ -73,6 +73,15 @@ struct ArmPart {
   double radius_mm = 0.0;
 };
 
+// The calibration light on the tool tip (an LED facing the camera): a bright
+// disc drawn over everything, at the tip's image position projected at the
+// tip's true height.
+struct ToolLight {
+  Eigen::Vector3d tip_mm = Eigen::Vector3d::Zero();  // tool tip in F, mm
+  double radius_px = 6.0;                            // ~12 px across
+  double level = 250.0;                              // grey level before lighting (marks: 240)
+};
+
 // How the camera saw one sheep's mark.
 struct MarkView {
   int32_t id = 0;
@@ -93,8 +102,11 @@ class CameraRenderer {
 
   // Renders one frame into `image` (resized to width * height bytes, row-major,
   // row 0 at the top) and returns one view per sheep, in the order given.
+  // `light` (may be null): the tool light, drawn last (it is on the tip,
+  // facing the camera, so the arm never hides it).
   std::vector<MarkView> render(const std::vector<SheepState>& sheep,
-                               const std::vector<ArmPart>& arm, std::vector<uint8_t>& image);
+                               const std::vector<ArmPart>& arm, std::vector<uint8_t>& image,
+                               const ToolLight* light = nullptr);
 
   // Where each mark is and how much of it the arm hides, without rendering.
   std::vector<MarkView> mark_views(const std::vector<SheepState>& sheep,

@@ -10,8 +10,10 @@
 //   servo    every 4 ms: applies the newest ARM_TRAJECTORY, publishes
 //            ARM_SERVO (joint_state_t) at 250 Hz
 // Subscribes ARM_TRAJECTORY (joint_trajectory_t; malformed ones are logged,
-// counted and ignored) and SIM_CMD (sim_cmd_t: herd size; reset with a seed
-// on the rising edge of `reset` or a new seed while it is set).
+// counted and ignored), SIM_CMD (sim_cmd_t: herd size; reset with a seed
+// on the rising edge of `reset` or a new seed while it is set) and
+// SIM_TOOL_LIGHT (tool_light_t: the calibration light on the tool tip, drawn
+// in every frame while on; used by ephor-calibrate).
 //
 // Time: simulated time runs with CLOCK_MONOTONIC from start-up; a message's
 // utime is the wall clock at start plus the simulated time of the state it
@@ -40,6 +42,8 @@
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/sim_cmd_t.hpp"
+#include "ephor/tool_light_t.hpp"
+#include "procs/calibrate/calibrate_channels.h"
 #include "procs/sim/sim_config.h"
 #include "procs/sim/simulator.h"
 
@@ -220,6 +224,14 @@ int main(int argc, char** argv) {
         p.last_sheep = m.sheep;
       }
     });
+
+    bus.subscribe<ephor::tool_light_t>(ephor::channels::kSimToolLight,
+                                       [&p](const ephor::tool_light_t& m) {
+                                         std::lock_guard<std::mutex> lock(p.mutex);
+                                         if (p.sim.tool_light() != m.on)
+                                           spdlog::info("tool light {}", m.on ? "on" : "off");
+                                         p.sim.set_tool_light(m.on);
+                                       });
 
     p.wall0_us = ephor::wall_us();
     p.mono0_ns = ephor::mono_ns();

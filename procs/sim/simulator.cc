@@ -78,6 +78,11 @@ Scene Simulator::scene() const {
   s.arm = arm_parts(puma_, config_.world.workcell, servo_.state().q);
   s.escapes = world_.escapes();
   s.saves = world_.saves();
+  if (tool_light_on_) {
+    ToolLight light;
+    light.tip_mm = tool_tip_mm();
+    s.tool_light = light;
+  }
   return s;
 }
 
@@ -105,7 +110,8 @@ GroundTruth Simulator::render(std::vector<uint8_t>& image) {
 
 GroundTruth Simulator::render(const Scene& scene, CameraRenderer& camera,
                               std::vector<uint8_t>& image) {
-  return combine(scene, camera.render(scene.sheep, scene.arm, image));
+  return combine(scene, camera.render(scene.sheep, scene.arm, image,
+                                      scene.tool_light ? &*scene.tool_light : nullptr));
 }
 
 }  // namespace ephor::sim

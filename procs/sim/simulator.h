@@ -17,6 +17,7 @@
 // Threading: not thread-safe; one owner (or one mutex) for everything.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "common/arm/puma560.h"
@@ -46,6 +47,7 @@ struct Scene {
   std::vector<ArmPart> arm;
   int32_t escapes = 0;
   int32_t saves = 0;
+  std::optional<ToolLight> tool_light;  // set while the calibration light is on
 };
 
 struct GroundTruth {
@@ -72,6 +74,10 @@ class Simulator {
   const ServoState& servo() const { return servo_.state(); }
   // Tool tip in F, mm.
   Eigen::Vector3d tool_tip_mm() const;
+  // The calibration light on the tool tip (tool_light_t): while on, the
+  // camera draws it at the tip (CameraRenderer's ToolLight).
+  void set_tool_light(bool on) { tool_light_on_ = on; }
+  bool tool_light() const { return tool_light_on_; }
 
   // The current state as the camera sees it; render() also draws the frame
   // (width * height bytes, row-major).
@@ -97,6 +103,7 @@ class Simulator {
   World world_;
   ArmServo servo_;
   CameraRenderer camera_;
+  bool tool_light_on_ = false;
 };
 
 }  // namespace ephor::sim

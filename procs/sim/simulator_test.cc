@@ -87,6 +87,52 @@ TEST(Simulator, LoweredArmOverASheepTurnsItAndHidesItsMark) {
   EXPECT_FALSE(gt.sheep[0].view.visible);
 }
 
+TEST(Simulator, ToolLightShinesAtTheTipOverTheArm) {
+  Simulator sim(quiet_field());
+  const auto& cell = sim.config().world.workcell;
+  const auto& cam = sim.config().camera.camera;
+  // Tool lowered at a point where the wrist and links lie over the tip in the image.
+  ASSERT_TRUE(sim.follow(move_tool(sim, 1, 400.0, 300.0, cell.object_plane_z_mm, 4.0)));
+  for (int i = 0; i < 60 && !sim.servo().trajectory_done; ++i) sim.step(0.1);
+  ASSERT_TRUE(sim.servo().trajectory_done);
+  const Eigen::Vector3d tip = sim.tool_tip_mm();
+  const Eigen::Vector2d at = cam.project(tip.x(), tip.y(), tip.z());
+
+  std::vector<uint8_t> dark, lit;
+  EXPECT_FALSE(sim.tool_light());
+  sim.render(dark);
+  EXPECT_EQ(bright_pixels_near(dark, at, 10.0), 0) << "no light, only the dark arm at the tip";
+
+  sim.set_tool_light(true);
+  sim.render(lit);
+  // A disc of radius 6 px (~113 px^2), as bright as a wool mark, centred on the tip.
+  const int n = bright_pixels_near(lit, at, 10.0);
+  EXPECT_GT(n, 90);
+  EXPECT_LT(n, 140);
+  double sw = 0.0, su = 0.0, sv = 0.0;
+  uint8_t peak = 0;
+  for (int v = 0; v < 482; ++v)
+    for (int u = 0; u < 512; ++u) {
+      const size_t i = static_cast<size_t>(v) * 512 + static_cast<size_t>(u);
+      const double d = static_cast<double>(lit[i]) - static_cast<double>(dark[i]);
+      if ((Eigen::Vector2d(u, v) - at).norm() > 10.0) {
+        EXPECT_LT(std::abs(d), 25.0)
+            << "light changed a pixel away from the tip at " << u << ", " << v;
+        continue;
+      }
+      peak = std::max(peak, lit[i]);
+      sw += d;
+      su += d * u;
+      sv += d * v;
+    }
+  EXPECT_GE(peak, 230);
+  EXPECT_LT((Eigen::Vector2d(su / sw, sv / sw) - at).norm(), 0.1);
+
+  sim.set_tool_light(false);
+  sim.render(lit);
+  EXPECT_EQ(bright_pixels_near(lit, at, 10.0), 0);
+}
+
 TEST(Simulator, SameSeedSameFramesAndTruth) {
   SimulatorConfig c;
   c.world.sheep = 5;
