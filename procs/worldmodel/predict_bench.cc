@@ -25,6 +25,7 @@
 //   ephor-bench-predict [--json FILE] [--runs N] [--seed S]
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -41,6 +42,7 @@
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
 #include "procs/worldmodel/alpha_beta_filter.h"
+#include "procs/worldmodel/world_model.h"
 
 namespace {
 
@@ -196,6 +198,31 @@ TurnResult run_turn(const Config& config, int runs, uint32_t seed) {
   return t;
 }
 
+// Mean time of WorldModel::process per frame with `sheep` straight-line
+// sheep (all four stages, no LCM), us.
+double associate_us_per_frame(int sheep, uint32_t seed,
+                              const ephor::calibration::FieldCalibration& cal) {
+  ephor::worldmodel::WorldModel wm(cal);
+  std::mt19937 rng(seed);
+  Measurer m;
+  const int frames = 3000;
+  std::vector<Track> tracks;
+  for (int i = 0; i < sheep; ++i) tracks.push_back(random_track(rng, 0.0, frames));
+  std::vector<ephor::worldmodel::BlobFrame> input(frames);
+  for (int f = 0; f < frames; ++f) {
+    input[static_cast<size_t>(f)].utime_us = 1'000'000 + f * 33'333;
+    for (const auto& t : tracks)
+      input[static_cast<size_t>(f)].blobs.push_back({m.measure(t.at_frame(f), rng), 200});
+  }
+  const auto start = std::chrono::steady_clock::now();
+  for (const auto& frame : input) wm.process(frame);
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  if (wm.counters().frames != frames || wm.counters().objects_created < sheep)
+    throw std::runtime_error("associate timing: the world model did not track the sheep (" +
+                             std::to_string(wm.counters().objects_created) + " created)");
+  return std::chrono::duration<double, std::micro>(elapsed).count() / frames;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -268,6 +295,13 @@ int main(int argc, char** argv) {
           {"second",
            {{"mean", t.mean_second}, {"median", t.median_second}, {"max", t.max_second}}}};
     }
+    std::printf("\nWorldModel::process (four stages, no LCM), mean per frame:");
+    for (const int sheep : {1, 4, 8}) {
+      const double us = associate_us_per_frame(sheep, seed, cal);
+      std::printf("  %d sheep %.1f us", sheep, us);
+      out["associate_us_per_frame"][std::to_string(sheep)] = us;
+    }
+    std::printf("\n");
     if (!json_path.empty()) {
       std::ofstream f(json_path);
       if (!f) throw std::runtime_error(json_path + ": cannot open for writing");
