@@ -14,6 +14,7 @@
 //
 //   ephor-display [--http-address 127.0.0.1] [--http-port 8080] [--calibration FILE]
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -97,6 +98,7 @@ struct Shared {
   std::string jpeg;
   int64_t jpeg_frame_index = -1;
   int64_t jpeg_mono_ns = 0;
+  double jpeg_tokens = 2.0;  // token bucket: max_fps encodes/s on average, bursts of 2
   uint64_t jpegs_encoded = 0;
   std::atomic<int64_t> last_request_mono_ns{0};
 
@@ -349,15 +351,20 @@ void add_routes(httplib::Server& svr, Bus& bus, Shared& sh, Snapshot& snap, int 
     }
     std::lock_guard<std::mutex> lock(sh.jpeg_mutex);
     const int64_t now = mono_ns();
-    // Encode only a newer frame, and at most max_fps times a second.
-    if (frame && frame->frame_index != sh.jpeg_frame_index && now - sh.jpeg_mono_ns >= min_gap_ns) {
+    // Encode only a newer frame, and at most max_fps times a second on
+    // average. A token bucket rather than a minimum gap: polls at 20 Hz
+    // against a 66 ms gap would encode only every other poll (10 images/s).
+    sh.jpeg_tokens = std::min(2.0, sh.jpeg_tokens + static_cast<double>(now - sh.jpeg_mono_ns) /
+                                                        static_cast<double>(min_gap_ns));
+    sh.jpeg_mono_ns = now;
+    if (frame && frame->frame_index != sh.jpeg_frame_index && sh.jpeg_tokens >= 1.0) {
       try {
         const auto& bytes =
             sh.encoder.encode(frame->data.data(), static_cast<int64_t>(frame->data.size()),
                               frame->width, frame->height);
         sh.jpeg.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
         sh.jpeg_frame_index = frame->frame_index;
-        sh.jpeg_mono_ns = now;
+        sh.jpeg_tokens -= 1.0;
         ++sh.jpegs_encoded;
       } catch (const std::exception& e) {
         spdlog::warn("camera frame {} not shown: {}", frame->frame_index, e.what());

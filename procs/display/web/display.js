@@ -3,18 +3,20 @@
 // controls as POST /api/cmd. No build step, no libraries.
 'use strict';
 
-const PERIOD_MS = 60;  // one update every 60 ms at most: ~16 updates/s
+const PERIOD_MS = 50;  // one update every 50 ms at most: up to 20 updates/s
 const canvas = document.getElementById('field');
 const ctx = canvas.getContext('2d');
 const $ = (id) => document.getElementById(id);
 
 // Exposed for tests and curious users: what the newest draw showed.
-window.ephorDisplay = { circles: 0, updates: 0, state: null, updatesPerS: 0 };
+window.ephorDisplay = { circles: 0, updates: 0, state: null, updatesPerS: 0, imagesPerS: 0 };
 
 let image = null;       // newest camera image (ImageBitmap)
 let state = null;       // newest /api/state
 let box = null;         // calibration box being dragged {u, v, half}
 let updateTimes = [];   // for the updates/s figure
+let imageTimes = [];    // new camera images, for the images/s figure
+let imageIndex = -1;
 
 async function fetchState() {
   const r = await fetch('api/state', { cache: 'no-store' });
@@ -25,6 +27,10 @@ async function fetchState() {
 async function fetchFrame() {
   const r = await fetch('api/frame.jpg', { cache: 'no-store' });
   if (r.status !== 200) return null;
+  const index = Number(r.headers.get('X-Frame-Index'));
+  if (index === imageIndex) return null;  // the server had no newer image
+  imageIndex = index;
+  imageTimes.push(performance.now());
   return createImageBitmap(await r.blob());
 }
 
@@ -43,7 +49,9 @@ async function loop() {
     updateTimes.push(now);
     while (updateTimes.length && updateTimes[0] < now - 2000) updateTimes.shift();
     window.ephorDisplay.updates++;
+    while (imageTimes.length && imageTimes[0] < now - 2000) imageTimes.shift();
     window.ephorDisplay.updatesPerS = updateTimes.length / 2;
+    window.ephorDisplay.imagesPerS = imageTimes.length / 2;
     canvas.dataset.updates = String(window.ephorDisplay.updates);
   } catch (e) {
     $('status-line').textContent = 'no connection to ephor-display: ' + e.message;
@@ -180,7 +188,7 @@ function updateTables() {
     $('score-escapes').textContent = s.truth.escapes;
     $('score-elapsed').textContent = fmt(s.truth.elapsed_s, 0) + ' s';
   }
-  $('updates-per-s').textContent = fmt(window.ephorDisplay.updatesPerS, 1);
+  $('updates-per-s').textContent = fmt(window.ephorDisplay.updatesPerS, 1) + ' (images ' + fmt(window.ephorDisplay.imagesPerS, 1) + ')';
 
   const rows = [];
   for (const h of s.sched) {
