@@ -23,11 +23,12 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !(c.obscured_gate_max_px >= c.obscured_gate_px) || !(c.merge_area_ratio > 1.0) ||
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
       !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
+      !(c.reacquire_area_ratio >= c.partial_area_ratio && c.reacquire_area_ratio < 1.0) ||
       !std::isfinite(c.mark_height_mm))
     throw std::invalid_argument(
         "world model config: gates, growth rates and times must be finite and positive, "
         "obscured_gate_max_px >= obscured_gate_px, merge_area_ratio > 1, "
-        "0 <= partial_area_ratio < 1");
+        "0 <= partial_area_ratio <= reacquire_area_ratio < 1");
   DoubleAlphaBetaFilter probe(c.filter);  // throws on bad filter parameters
   mark_map_ = calibration_.matrix_at_height(c.mark_height_mm);
 }
@@ -61,8 +62,8 @@ void WorldModel::see(Track& t, const Eigen::Vector2d& z, int area, bool reacquir
     t.usual_area_px += 0.05 * (area - t.usual_area_px);
 }
 
-bool WorldModel::partly_hidden(const Track& t, int area) const {
-  return area < config_.partial_area_ratio * t.usual_area_px;
+bool WorldModel::partly_hidden(const Track& t, int area, double ratio) const {
+  return area < ratio * t.usual_area_px;
 }
 
 void WorldModel::hide(Track& t) {
@@ -173,7 +174,7 @@ void WorldModel::stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>&
     }
     const auto b = static_cast<size_t>(blob_of[o]);
     taken[b] = true;
-    if (partly_hidden(t, areas[b])) {
+    if (partly_hidden(t, areas[b], config_.partial_area_ratio)) {
       ++counters_.partial_blobs;
       hide(t);
       continue;
@@ -212,7 +213,7 @@ void WorldModel::stage2_obscured(const std::vector<Eigen::Vector2d>& blobs,
   for (const Assignment& m : Associator::assign(predictions, blobs, taken)) {
     Track& t = *obscured[m.object];
     taken[m.blob] = true;
-    if (partly_hidden(t, areas[m.blob])) {
+    if (partly_hidden(t, areas[m.blob], config_.reacquire_area_ratio)) {
       ++counters_.partial_blobs;  // still mostly under the arm: keep coasting
       continue;
     }

@@ -90,6 +90,10 @@ struct WorldModelConfig {
   // (and slides as the arm's edge passes), so it is associated (it is no new
   // sheep) but not measured; the object coasts as obscured.
   double partial_area_ratio = 0.85;
+  // An obscured object is measured again only from a blob of at least this
+  // fraction (hysteresis: as a mark comes out from under the arm its centroid
+  // still slides until it is nearly whole).
+  double reacquire_area_ratio = 0.92;
   double max_obscured_s = 10.0;  // lost: stop dead-reckoning
   double report_dead_s = 2.0;    // keep reporting a dead object this long
 };
@@ -144,7 +148,7 @@ class WorldModel {
   void stage4_new(const std::vector<Eigen::Vector2d>& blobs, const std::vector<int>& areas,
                   const std::vector<bool>& taken);
   void see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire);
-  bool partly_hidden(const Track& t, int area) const;
+  bool partly_hidden(const Track& t, int area, double ratio) const;
   void hide(Track& t);
   void kill(Track& t);
   bool inside_field(const Eigen::Vector2d& px) const;

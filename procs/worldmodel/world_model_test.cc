@@ -296,7 +296,12 @@ TEST(WorldModelTest, AMarkPartlyUnderTheArmIsNotMeasuredSoItsVelocitySurvives) {
   EXPECT_NEAR(hidden->velocity_px_s.y(), 0.0, 0.5)
       << "the sliding centroid leaked into the velocity";
   EXPECT_LT((hidden->position_px - s.at(129)).norm(), 1.5);
-  feed(wm, {s}, 130, 140, rng);
+  // Coming out: 88 % of the mark is not yet enough to measure it again.
+  BlobFrame emerging{.utime_us = 1'000'000 + 130 * kFrameUs, .frame_index = 130, .blobs = {}};
+  emerging.blobs.push_back({s.at(130), static_cast<int>(0.88 * kArea)});
+  wm.process(emerging);
+  EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kObscured);
+  feed(wm, {s}, 131, 140, rng);
   EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kVisible);
   EXPECT_EQ(wm.counters().objects_created, 1);
 }
