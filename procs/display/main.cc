@@ -13,6 +13,7 @@
 // most --max-fps times a second, so an unwatched display costs almost nothing.
 //
 //   ephor-display [--http-address 127.0.0.1] [--http-port 8080] [--calibration FILE]
+//                 [--sim-seed N] [--max-fps 15]
 
 #include <algorithm>
 #include <cstdlib>
@@ -461,6 +462,10 @@ int main(int argc, char** argv) {
   app.add_option("--tool-radius-mm", options.tool_radius_mm,
                  "footprint of the manipulator tip drawn on the table, mm (default 40)")
       ->check(CLI::Range(1.0, 500.0));
+  int sim_seed = 1;
+  app.add_option("--sim-seed", sim_seed,
+                 "the simulator's seed, sent back unchanged in sim_cmd_t (full state) until a "
+                 "SIM_CMD names another (default 1, ephor-sim's default)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
 
@@ -475,6 +480,7 @@ int main(int argc, char** argv) {
 
     Bus bus(args.lcm_url, args.name);
     Shared sh;
+    sh.controls.sim.seed = sim_seed;
     sh.state = std::make_unique<display::DisplayState>(geometry, options);
     Snapshot snap;
     subscribe_all(bus, sh, snap);
