@@ -12,7 +12,9 @@ function(ephor_target_defaults target)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
   if(EPHOR_SANITIZE)
-    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
+    # -Wno-maybe-uninitialized: GCC 12 false positives inside <regex> with sanitizers.
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
+      -Wno-maybe-uninitialized)
     target_link_options(${target} PRIVATE -fsanitize=address,undefined)
   endif()
 endfunction()

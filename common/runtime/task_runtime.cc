@@ -174,6 +174,9 @@ void TaskRuntime::stop() {
     if (t->thread.joinable()) t->thread.join();
   if (housekeeping_.joinable()) housekeeping_.join();
   for (auto& t : tasks_) publish_jobs(*t, false);
+  // start() started the bus thread: stop it too, so no callback (which may
+  // refer to this runtime or to the caller's locals) outlives the tasks.
+  bus_.stop();
 }
 
 TaskCounters TaskRuntime::counters(const std::string& task) const {

@@ -77,7 +77,8 @@ class TaskRuntime {
   // Locks memory, subscribes to the scheduler, starts the bus thread and one
   // thread per task.
   void start();
-  // Stops every task after its current job and joins the threads.
+  // Stops every task after its current job, joins the threads and stops
+  // the bus thread that start() started.
   void stop();
 
   TaskCounters counters(const std::string& task) const;
