@@ -143,6 +143,33 @@ try {
   const getStatus = await page.evaluate(async () => (await fetch('api/cmd?cmd=pause&value=true')).status);
   check(getStatus !== 200, `GET /api/cmd is not accepted (${getStatus})`);
 
+  // The other controls reach LCM too: planner kind, herd size, calibration box.
+  r = await probe(['--want', 'messages', '--channel', 'PLANNER_CMD', '--min', '1', '--timeout-s', '3'],
+    () => page.click('#btn-lookahead'));
+  check(r.code === 0, 'planner button sends PLANNER_CMD');
+  r = await probe(['--want', 'messages', '--channel', 'SIM_CMD', '--min', '1', '--timeout-s', '3'], async () => {
+    await page.fill('#sheep', '4');
+    await page.click('#btn-sheep');
+  });
+  check(r.code === 0, 'sheep "set" sends SIM_CMD');
+  await page.check('#layer-box');
+  const cbox = await page.locator('#field').boundingBox();
+  r = await probe(['--want', 'messages', '--channel', 'DISPLAY_BOX', '--min', '1', '--timeout-s', '3'], async () => {
+    await page.mouse.move(cbox.x + 100, cbox.y + 100);
+    await page.mouse.down();
+    await page.mouse.move(cbox.x + 150, cbox.y + 120, { steps: 5 });
+    await page.mouse.up();
+  });
+  check(r.code === 0, 'dragging the calibration box sends DISPLAY_BOX');
+  // The drop's command is sent on mouseup without waiting: poll for it (3 s at most).
+  let boxNow = (await controls()).box;
+  for (const until = Date.now() + 3000; Date.now() < until && Math.abs(boxNow.u - 150) >= 3;) {
+    await new Promise((res) => setTimeout(res, 50));
+    boxNow = (await controls()).box;
+  }
+  check(boxNow.visible && Math.abs(boxNow.u - 150) < 3 && Math.abs(boxNow.v - 120) < 3,
+    `box placed where it was dropped (${boxNow.u}, ${boxNow.v})`);
+
   // Debug dump: the newest message of every channel heard.
   const dump = await page.evaluate(async () => (await fetch('api/debug')).json());
   check(['CAMERA', 'BLOBS', 'OBJECTS', 'GROUND_TRUTH', 'VISION_CMD'].every((c) => c in dump.channels),
