@@ -152,16 +152,17 @@ class Calibrator {
     wait([] { return false; }, s);
   }
 
-  void check_inputs() {
-    if (!wait([&] { return link_.state().has_value(); }, 5.0))
+  void check_inputs(double timeout_s = 5.0) {
+    if (!wait([&] { return link_.state().has_value(); }, timeout_s))
       throw std::runtime_error(
-          "no servo state on ARM_SERVO within 5 s: is ephor-sim (or the arm's servo layer) "
-          "running on this LCM network?");
-    if (!wait([&] { return link_.frame_utime() != 0; }, 5.0))
+          fmt::format("no servo state on ARM_SERVO within {:.0f} s: is ephor-sim (or the arm's "
+                      "servo layer) running on this LCM network?",
+                      timeout_s));
+    if (!wait([&] { return link_.frame_utime() != 0; }, timeout_s))
       throw std::runtime_error(
-          fmt::format("no camera frames on CAMERA within 5 s ({} malformed frames): is ephor-sim "
-                      "(or a camera) running on this LCM network?",
-                      link_.bad_frames()));
+          fmt::format("no camera frames on CAMERA within {:.0f} s ({} malformed frames): is "
+                      "ephor-sim (or a camera) running on this LCM network?",
+                      timeout_s, link_.bad_frames()));
   }
 
   // Moves the tool (joint space, slowly) to `goal` and waits until the servo is done.
@@ -243,7 +244,7 @@ class Calibrator {
       pause(settle_s_);
       std::optional<ephor::calibrate::ToolSpot> spot;
       std::string why;
-      Eigen::Vector3d tip;
+      Eigen::Vector3d tip = Eigen::Vector3d::Zero();
       for (int attempt = 0; attempt < 3 && !spot; ++attempt) {
         const auto q0 = joints_of(*link_.state());
         const auto dark = frame_with_light(false, what);
@@ -329,7 +330,12 @@ int main(int argc, char** argv) {
   ephor::add_process_flags(app, args, "calibrate");
   std::string out;
   double timeout_s = 300.0, speed = 0.5, settle_s = 0.3;
-  app.add_option("--out", out, "calibration file to write (Protobuf text)")->required();
+  double probe_s = 0.0;
+  app.add_option("--out", out, "calibration file to write (Protobuf text)");
+  app.add_option("--probe-s", probe_s,
+                 "only check for this many seconds that a camera and a servo layer are "
+                 "publishing: exit 0 if so, 3 if not (tools/ephor calibrate uses it)")
+      ->check(CLI::Range(0.1, 60.0));
   app.add_option("--timeout-s", timeout_s, "give up after this many seconds (default 300)")
       ->check(CLI::Range(1.0, 3600.0));
   app.add_option("--speed", speed,
@@ -347,7 +353,20 @@ int main(int argc, char** argv) {
     int rc = 1;
     try {
       Calibrator calibrator(bus, link, timeout_s, speed, settle_s);
-      rc = calibrator.run(out);
+      if (probe_s > 0.0) {
+        try {
+          calibrator.check_inputs(probe_s);
+          rc = 0;
+        } catch (const std::runtime_error& e) {
+          spdlog::info("probe: {}", e.what());
+          rc = 3;
+        }
+      } else if (out.empty()) {
+        spdlog::error("--out FILE is required");
+        rc = 2;
+      } else {
+        rc = calibrator.run(out);
+      }
     } catch (const std::exception& e) {
       for (int i = 0; i < 3; ++i) link.light(false);
       spdlog::error("calibration failed: {}", e.what());
