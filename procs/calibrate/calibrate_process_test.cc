@@ -4,6 +4,7 @@
 // both planes; the arm ends parked and the light off.
 
 #include <chrono>
+#include <csignal>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -92,6 +93,50 @@ TEST(CalibrateProcess, CalibratesAgainstTheRunningSimulator) {
     if (line.find("tool light") != std::string::npos) last_light = line;
   EXPECT_NE(last_light.find("tool light off"), std::string::npos) << last_light;
   bus.stop();
+}
+
+std::optional<launcher::ExitInfo> exit_of(const ephor::testing::Processes& procs,
+                                          const std::string& name) {
+  for (const auto& e : procs.exits())
+    if (e.name == name) return e;
+  return std::nullopt;
+}
+
+TEST(CalibrateProcess, SaysWhatIsMissingWhenNothingRuns) {
+  ephor::testing::Processes procs;
+  procs.start("probe", ephor::testing::bin("ephor-calibrate"), {"--probe-s", "0.5"});
+  procs.start("calibrate", ephor::testing::bin("ephor-calibrate"),
+              {"--out", ephor::testing::write_temp_file("never.pbtxt", "")});
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return exit_of(procs, "probe").has_value() && exit_of(procs, "calibrate").has_value();
+      },
+      20s));
+  EXPECT_EQ(exit_of(procs, "probe")->code, 3);
+  EXPECT_EQ(exit_of(procs, "calibrate")->code, 1);
+  EXPECT_TRUE(procs.has_line("calibrate", "no servo state on ARM_SERVO within 5 s"));
+}
+
+TEST(CalibrateProcess, TurnsTheLightOffWhenInterrupted) {
+  ephor::testing::Processes procs;
+  procs.start("sim", ephor::testing::bin("ephor-sim"), {"--sheep", "0", "--no-mlock"});
+  procs.start("calibrate", ephor::testing::bin("ephor-calibrate"),
+              {"--out", ephor::testing::write_temp_file("never.pbtxt", ""), "--settle-s", "2"});
+  // The first point: the light goes on (with --settle-s 2 it stays on for a while), then SIGTERM.
+  ASSERT_TRUE(wait_until([&] { return procs.has_line("sim", "tool light on"); }, 60s));
+  procs.signal("calibrate", SIGTERM);
+  ASSERT_TRUE(wait_until([&] { return exit_of(procs, "calibrate").has_value(); }, 10s));
+  EXPECT_NE(exit_of(procs, "calibrate")->code, 0);
+  EXPECT_TRUE(procs.has_line("calibrate", "interrupted"));
+  std::string last_light;
+  EXPECT_TRUE(wait_until(
+      [&] {
+        for (const auto& line : procs.lines("sim"))
+          if (line.find("tool light") != std::string::npos) last_light = line;
+        return last_light.find("tool light off") != std::string::npos;
+      },
+      5s))
+      << last_light;
 }
 
 }  // namespace

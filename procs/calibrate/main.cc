@@ -9,7 +9,8 @@
 // present joints, a slow trapezoidal joint move on ARM_TRAJECTORY (as a teach
 // pendant would: the arm has no calibration yet, so ephor-arm's image-space
 // commands cannot be used), wait for trajectory_done, then one camera frame
-// with the tool light off and one with it on (SIM_TOOL_LIGHT); the light's
+// with the tool light off and one with it on (SIM_TOOL_LIGHT: on from the
+// start, off only for the dark frame); the light's
 // centre in their difference and the tip's position from the measured joints
 // (forward kinematics) make one correspondence. Then it fits both planes'
 // maps (FieldCalibration::fit), prints the residual of every point (px and
@@ -227,7 +228,7 @@ class Calibrator {
   int run(const std::string& out) {
     check_inputs();
     LightGuard guard{link_};
-    link_.light(false);
+    link_.light(true);  // on throughout, off only for the dark frame at each point
     const ephor::calibrate::CalibrationPlan plan(cell_);
     const ephor::calibrate::ToolSpotFinder finder;
     std::vector<Correspondence> object, elevation;
@@ -259,7 +260,6 @@ class Calibrator {
         why = r.reason;
         tip = ephor::arm::tool_in_field(cell_, q1).tip_mm;  // where the encoders say the tip is
       }
-      link_.light(false);
       if (!spot) throw std::runtime_error("light spot not found at " + what + ": " + why);
       spdlog::info("{}: spot at ({:.2f}, {:.2f}) px, tip at ({:.2f}, {:.2f}, {:.2f}) mm", what,
                    spot->centre_px.x(), spot->centre_px.y(), tip.x(), tip.y(), tip.z());
