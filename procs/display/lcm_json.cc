@@ -47,7 +47,7 @@ void to_json(nlohmann::json& j, const camera_frame_t& m) {
        {"width", m.width},
        {"height", m.height},
        {"size", m.size},
-       {"data", "(" + std::to_string(m.data.size()) + " bytes, not dumped)"}};
+       {"data", "(" + std::to_string(m.size) + " bytes, not dumped)"}};
 }
 
 }  // namespace ephor

@@ -132,7 +132,15 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
     std::lock_guard<std::mutex> lock(sh.mutex);
     sh.frame = frame;
     sh.state->on_frame(m.frame_index, m.width, m.height, wall_us());
-    snap.put(channels::kCamera, m);
+    // The dump shows a frame's fields, not its pixels: keep no second copy of them.
+    camera_frame_t fields;
+    fields.utime = m.utime;
+    fields.header = m.header;
+    fields.frame_index = m.frame_index;
+    fields.width = m.width;
+    fields.height = m.height;
+    fields.size = m.size;
+    snap.put(channels::kCamera, fields);
   });
   bus.subscribe<blobs_t>(channels::kBlobs, [&](const blobs_t& m) {
     display::BlobsView b;

@@ -18,9 +18,9 @@
 #include <map>
 #include <string>
 
+#include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
-#include <CLI/CLI.hpp>
 
 #include "common/lcm/bus.h"
 #include "ephor/blobs_t.hpp"
