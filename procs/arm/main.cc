@@ -19,7 +19,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <deque>
-#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -31,6 +30,7 @@
 #include "common/calibration/field_calibration.h"
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
+#include "common/config/repo_paths.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -61,18 +61,6 @@ static_assert(static_cast<int>(AckStatus::kAccepted) == ephor::arm_ack_t::STATUS
 static_assert(static_cast<int>(AckStatus::kDone) == ephor::arm_ack_t::STATUS_DONE);
 static_assert(static_cast<int>(AckStatus::kRejected) == ephor::arm_ack_t::STATUS_REJECTED);
 static_assert(static_cast<int>(AckStatus::kFailed) == ephor::arm_ack_t::STATUS_FAILED);
-
-// deploy/calibration/sim.pbtxt of the repository: $EPHOR_SOURCE_DIR, else the
-// executable's build/bin/../..
-std::string default_calibration_path() {
-  const std::string rel = "deploy/calibration/sim.pbtxt";
-  if (const char* src = std::getenv("EPHOR_SOURCE_DIR"); src && *src)
-    return (std::filesystem::path(src) / rel).string();
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) return rel;
-  return (exe.parent_path() / ".." / ".." / rel).lexically_normal().string();
-}
 
 struct Options {
   double max_speed_mm_s = 300.0;
@@ -389,7 +377,7 @@ int main(int argc, char** argv) {
   ephor::init_logging(args.name);
 
   try {
-    if (calibration_path.empty()) calibration_path = default_calibration_path();
+    if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
     const ephor::geometry::Workcell cell;
     const ephor::geometry::OverheadCamera camera;
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);

@@ -13,7 +13,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -21,6 +20,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/calibration/field_calibration.h"
+#include "common/config/repo_paths.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/lcm/mailbox.h"
@@ -36,16 +36,6 @@ namespace {
 
 using ephor::worldmodel::ObjectState;
 using ephor::worldmodel::WorldModel;
-
-// The repository: $EPHOR_SOURCE_DIR, else two levels above this executable
-// (build/bin/ephor-worldmodel).
-std::filesystem::path repo_dir() {
-  if (const char* env = std::getenv("EPHOR_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) return ".";
-  return exe.parent_path().parent_path().parent_path();
-}
 
 ephor::worldmodel::BlobFrame to_frame(const ephor::blobs_t& msg) {
   ephor::worldmodel::BlobFrame frame;
@@ -184,7 +174,7 @@ int main(int argc, char** argv) {
 
   try {
     if (calibration_path.empty())
-      calibration_path = (repo_dir() / "deploy" / "calibration" / "sim.pbtxt").string();
+      calibration_path = ephor::default_calibration_path();
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);
     spdlog::info("calibration {} ({})", calibration_path, calibration.source());
     WorldModel wm(std::move(calibration), config);
