@@ -37,7 +37,6 @@
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "procs/display/command_validator.h"
-#include "procs/display/display_channels.h"
 #include "procs/display/display_state.h"
 #include "procs/display/frame_encoder.h"
 #include "procs/display/lcm_json.h"
@@ -121,8 +120,8 @@ const std::vector<std::string>& heard_channels() {
                                                 channels::kArmAck,
                                                 channels::kArmState,
                                                 channels::kSchedStatus,
-                                                display::channels::kPlannerCmd,
-                                                display::channels::kDisplayBox};
+                                                channels::kPlannerCmd,
+                                                channels::kDisplayBox};
   return list;
 }
 
@@ -186,8 +185,8 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
       sh.planner_known = true;
     }
   });
-  bus.subscribe<planner_cmd_t>(display::channels::kPlannerCmd, [&](const planner_cmd_t& m) {
-    snap.put(display::channels::kPlannerCmd, m);
+  bus.subscribe<planner_cmd_t>(channels::kPlannerCmd, [&](const planner_cmd_t& m) {
+    snap.put(channels::kPlannerCmd, m);
     std::lock_guard<std::mutex> lock(sh.mutex);
     sh.controls.planner = m.planner;
     sh.planner_known = true;
@@ -263,8 +262,8 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
                            [&](const arm_ack_t& m) { snap.put(channels::kArmAck, m); });
   bus.subscribe<motion_done_t>(channels::kMotionDone,
                                [&](const motion_done_t& m) { snap.put(channels::kMotionDone, m); });
-  bus.subscribe<display_box_t>(display::channels::kDisplayBox, [&](const display_box_t& m) {
-    snap.put(display::channels::kDisplayBox, m);
+  bus.subscribe<display_box_t>(channels::kDisplayBox, [&](const display_box_t& m) {
+    snap.put(channels::kDisplayBox, m);
   });
 }
 
@@ -304,7 +303,7 @@ bool publish_control(Bus& bus, display::Target target, const Controls& c) {
       planner_cmd_t m{};
       m.utime = wall_us();
       m.planner = c.planner;
-      return bus.publish(display::channels::kPlannerCmd, m);
+      return bus.publish(channels::kPlannerCmd, m);
     }
     case display::Target::kBox: {
       display_box_t m{};
@@ -313,7 +312,7 @@ bool publish_control(Bus& bus, display::Target target, const Controls& c) {
       m.u = static_cast<float>(c.box.u);
       m.v = static_cast<float>(c.box.v);
       m.half_size_px = static_cast<float>(c.box.half_size_px);
-      return bus.publish(display::channels::kDisplayBox, m);
+      return bus.publish(channels::kDisplayBox, m);
     }
     case display::Target::kNone:
       break;
