@@ -258,6 +258,7 @@ class Calibrator {
         const auto r = finder.find(lit, dark);
         spot = r.spot;
         why = r.reason;
+        if (!spot) spdlog::warn("{}: try {} of 3: {}", what, attempt + 1, why);
         tip = ephor::arm::tool_in_field(cell_, q1).tip_mm;  // where the encoders say the tip is
       }
       if (!spot) throw std::runtime_error("light spot not found at " + what + ": " + why);

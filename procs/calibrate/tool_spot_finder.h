@@ -36,7 +36,7 @@ struct GreyFrame {
 
 struct ToolSpotFinderConfig {
   double min_contrast = 60.0;     // grey levels: on - off above this is light
-  double min_area_px = 20.0;      // smaller components are noise or a moving edge
+  double min_area_px = 50.0;      // smaller: noise, or the edge of a mark that moved between frames
   double max_area_px = 600.0;     // larger ones are not the light (something moved)
   double window_margin_px = 3.0;  // centroid disc: component radius + this
   double gate_px = 40.0;          // around the expected position, when given

@@ -49,12 +49,14 @@ TEST(ToolSpotFinder, FindsTheLightToATenthOfAPixel) {
   }
 }
 
-TEST(ToolSpotFinder, IgnoresMarksThatAreInBothFrames) {
+TEST(ToolSpotFinder, IgnoresMarksStillOrWalking) {
   GreyFrame dark = background(1), lit = background(2);
-  for (auto* f : {&dark, &lit}) {  // sheep marks as bright as the light, still
+  for (auto* f : {&dark, &lit}) {  // sheep marks as bright as the light, standing
     disc(*f, {100.0, 100.0}, 8.0, 240.0);
     disc(*f, {300.0, 200.0}, 8.0, 240.0);
   }
+  disc(dark, {200.0, 400.0}, 8.0, 240.0);  // a walking sheep's mark, 1.5 px on in the lit frame
+  disc(lit, {201.5, 400.0}, 8.0, 240.0);
   disc(lit, {310.0, 215.0}, 6.0, 250.0);  // the light right beside a mark
   const auto r = ToolSpotFinder().find(lit, dark);
   ASSERT_TRUE(r.spot) << r.reason;
