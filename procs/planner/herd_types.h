@@ -7,6 +7,7 @@
 // corner shown bottom-left in the image, x along the long side, y along the
 // short side. Velocities in mm/s, times in s, angles in rad from +x towards +y.
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -15,6 +16,8 @@
 #include "common/geometry/workcell.h"
 
 namespace ephor::planner {
+
+using JointAngles = std::array<double, 6>;  // rad, PUMA 560 joint order (arm_state_t.q)
 
 enum class SheepState { kVisible, kObscured, kDead };
 
@@ -43,6 +46,20 @@ struct ArmModel {
   // Per goal: planner -> comm -> arm round trip, acceleration and settling.
   // The paper's arm was "sometimes in error": this is the allowance for it.
   double overhead_s = 0.25;
+  // The arm's joints (ARM_STATE), when known. With them the planner can tell
+  // a point the arm reaches in its current configuration from one that needs
+  // a configuration change (ArmConfiguration): joint 1's +-160 deg leaves a
+  // wedge of the field to each configuration, and ephor-arm changes
+  // configuration by a joint-space path of 12-14 s (measured on the full
+  // system), not the straight line this model times.
+  bool joints_known = false;
+  JointAngles joints_rad{};
+  double configuration_switch_s = 13.0;
+  // A move whose straight line passes the column (closer than
+  // PlannerConfig::tool_keepout_mm) is a joint-space path around it:
+  // ephor-arm took 9.9 s for a 1.0 m move that the straight-line model
+  // times at 3.4 s. Added when the joints are known.
+  double column_detour_s = 5.0;
 };
 
 enum class Plane { kElevation, kObject };
@@ -134,11 +151,19 @@ struct PlannerConfig {
   // A goal without motion_done after factor * expected duration + slack is
   // treated as failed (comm already retries; this guards against loss).
   double goal_timeout_factor = 2.0;
-  double goal_timeout_slack_s = 2.0;
+  // The slack covers the arm's joint-space paths (up to ~14 s where the
+  // straight-line estimate says 3 s): a goal timed out while the arm still
+  // moves would be replaced mid-swing. Failures and lost commands are
+  // reported by comm (retries, TIMEOUT) long before this guard fires.
+  double goal_timeout_slack_s = 15.0;
   // After a failed goal the next waits failure_backoff_s, doubling with each
   // further consecutive failure up to failure_backoff_max_s.
   double failure_backoff_s = 0.25;
   double failure_backoff_max_s = 2.0;
+  // A sheep whose intercept needs a configuration change of the arm is
+  // passed over for one reachable as the arm is, while it would still leave
+  // the field more than this after its (switched) intercept time, s.
+  double switch_defer_slack_s = 6.0;
   // Look-ahead planner: saves searched ahead, candidates considered, budget.
   int lookahead_depth = 3;
   int lookahead_max_candidates = 8;

@@ -110,6 +110,11 @@ class PlanJob {
         scene.arm.y_mm = static_cast<double>(arm->y_mm);
         scene.arm.lowered = static_cast<double>(arm->z_mm) <
                             0.5 * (workcell_.elevation_plane_z_mm + workcell_.object_plane_z_mm);
+        scene.arm.joints_known = true;
+        for (size_t i = 0; i < 6; ++i) {
+          scene.arm.joints_rad[i] = arm->q[i];
+          if (!std::isfinite(arm->q[i])) scene.arm.joints_known = false;
+        }
       } else {
         ++bad_arm_states_;
         spdlog::warn("arm_state with a non-finite tool position ignored ({} so far)",

@@ -4,17 +4,30 @@
 
 namespace ephor::planner {
 
-std::optional<Intercept> MultiSheepPlanner::intercept_for(const ArmModel& arm,
-                                                          const Sheep& sheep) const {
+std::optional<Intercept> MultiSheepPlanner::intercept_for(const ArmModel& arm, const Sheep& sheep,
+                                                          bool* needs_switch) const {
   // The tool goes just behind the sheep's nose; when that point is already
   // off the field, onto the sheep's mark instead (still on its body, half a
   // body length of timing slack either way).
   std::optional<Intercept> ic;
+  bool switching = false;
   for (const double lead : {config().sheep_lead_mm, 0.0}) {
     ic = InterceptSolver::solve(arm, sheep, lead, lowering_delay_s(arm), rules().centre_x_mm(),
                                 rules().centre_y_mm());
+    switching = false;
+    // The straight-line time is a lie when the arm must change configuration
+    // or go around its column to get there: meet the sheep later.
+    if (ic) {
+      const double extra = switch_time_s(arm, ic->x_mm, ic->y_mm);
+      if (extra > 0.0) {
+        switching = extra >= arm.configuration_switch_s;
+        ic = InterceptSolver::solve(arm, sheep, lead, lowering_delay_s(arm) + extra,
+                                    rules().centre_x_mm(), rules().centre_y_mm());
+      }
+    }
     if (ic && rules().intercept_in_field(*ic, sheep)) break;
   }
+  if (needs_switch != nullptr) *needs_switch = switching;
   return ic;
 }
 
@@ -23,7 +36,7 @@ CandidateVerdict MultiSheepPlanner::judge(const Scene& scene, const Sheep& sheep
   CandidateVerdict v;
   v.sheep_id = sheep.id;
   v.time_to_boundary_s = rules().time_to_boundary(sheep);
-  const std::optional<Intercept> ic = intercept_for(scene.arm, sheep);
+  const std::optional<Intercept> ic = intercept_for(scene.arm, sheep, &v.needs_switch);
   if (!ic) {
     v.verdict = Verdict::kNoIntercept;
     return v;
@@ -52,17 +65,28 @@ std::optional<SavePlan> MultiSheepPlanner::choose(const Scene& scene, int* candi
   const std::vector<int> by_urgency = save_candidates(scene);
   *candidates = static_cast<int>(by_urgency.size());
   std::optional<SavePlan> last_resort;
+  // A sheep that can only be met after a configuration change (12-14 s of
+  // arm time) and still has time to spare is deferred: a sheep reachable as
+  // the arm is gets saved first; the switch happens when nothing else can be.
+  std::optional<SavePlan> deferred;
   for (int index : candidate_order(scene, by_urgency)) {
     const Sheep& sheep = scene.sheep[static_cast<size_t>(index)];
     Intercept ic;
     const CandidateVerdict v = judge(scene, sheep, &ic);
     verdicts_.push_back(v);
-    if (v.verdict == Verdict::kAccepted) return SavePlan{sheep.id, ic, false};
+    if (v.verdict == Verdict::kAccepted) {
+      if (v.needs_switch && v.time_to_boundary_s > ic.t_s + config().switch_defer_slack_s) {
+        if (!deferred) deferred = SavePlan{sheep.id, ic, false};
+        continue;
+      }
+      return SavePlan{sheep.id, ic, false};
+    }
     if (v.verdict == Verdict::kOnOtherSheepPath && !last_resort &&
         config().last_resort_on_other_path) {
       last_resort = SavePlan{sheep.id, ic, true};
     }
   }
+  if (deferred) return deferred;
   return last_resort;
 }
 

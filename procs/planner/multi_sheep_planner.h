@@ -26,6 +26,9 @@ struct CandidateVerdict {
   double time_to_boundary_s = 0.0;
   Verdict verdict = Verdict::kNoIntercept;
   int blocking_sheep = -1;  // for kOnOtherSheepPath
+  // The intercept is outside the arm's current configuration's region
+  // (its time includes ArmModel::configuration_switch_s).
+  bool needs_switch = false;
 };
 
 class MultiSheepPlanner : public SaveCyclePlanner {
@@ -38,7 +41,8 @@ class MultiSheepPlanner : public SaveCyclePlanner {
 
   // Step 2's intercept for one sheep (from the elevation plane, with the
   // lowering delay); may lie outside the field.
-  std::optional<Intercept> intercept_for(const ArmModel& arm, const Sheep& sheep) const;
+  std::optional<Intercept> intercept_for(const ArmModel& arm, const Sheep& sheep,
+                                         bool* needs_switch = nullptr) const;
   // Step 2 for one sheep: the intercept and whether it is usable.
   CandidateVerdict judge(const Scene& scene, const Sheep& sheep, Intercept* intercept) const;
 

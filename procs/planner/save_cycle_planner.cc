@@ -34,7 +34,8 @@ PathOffset offset_from_path(const Sheep& s, double x_mm, double y_mm) {
 
 }  // namespace
 
-SaveCyclePlanner::SaveCyclePlanner(const PlannerConfig& config) : rules_(config) {}
+SaveCyclePlanner::SaveCyclePlanner(const PlannerConfig& config)
+    : rules_(config), arm_configuration_(config.workcell) {}
 
 const char* SaveCyclePlanner::phase_name(Phase phase) {
   switch (phase) {
@@ -70,6 +71,26 @@ void SaveCyclePlanner::set_phase(Phase phase) {
 double SaveCyclePlanner::lowering_delay_s(const ArmModel& arm) const {
   // Two goals (the move, then the lowering) each pay the overhead.
   return arm.lowering_time_s + 2.0 * arm.overhead_s;
+}
+
+double SaveCyclePlanner::switch_time_s(const ArmModel& arm, double x_mm, double y_mm) const {
+  if (!arm.joints_known) return 0.0;
+  const double theta = std::atan2(rules_.centre_y_mm() - y_mm, rules_.centre_x_mm() - x_mm);
+  if (arm_configuration_.needs_switch(arm.joints_rad, x_mm, y_mm,
+                                      config().workcell.elevation_plane_z_mm, theta)) {
+    return arm.configuration_switch_s;
+  }
+  // Closest approach of the straight tool path to the column axis, mm.
+  const double bx = config().workcell.base_x_mm;
+  const double by = config().workcell.base_y_mm;
+  const double dx = x_mm - arm.x_mm;
+  const double dy = y_mm - arm.y_mm;
+  const double len2 = dx * dx + dy * dy;
+  const double t = len2 > 1e-9
+                       ? std::clamp(((bx - arm.x_mm) * dx + (by - arm.y_mm) * dy) / len2, 0.0, 1.0)
+                       : 0.0;
+  const double closest = std::hypot(arm.x_mm + t * dx - bx, arm.y_mm + t * dy - by);
+  return closest < config().tool_keepout_mm ? arm.column_detour_s : 0.0;
 }
 
 bool SaveCyclePlanner::on_motion_done(int64_t goal_id, bool succeeded) {
@@ -378,6 +399,9 @@ std::optional<Goal> SaveCyclePlanner::send(const Scene& scene, Plane plane, doub
   double expected = std::hypot(x_mm - arm.x_mm, y_mm - arm.y_mm) / arm.speed_mm_s + arm.overhead_s;
   if (plane == Plane::kObject && !arm.lowered) expected += arm.lowering_time_s;
   if (plane == Plane::kElevation && arm.lowered) expected += arm.raise_time_s;
+  // A configuration change takes 12-14 s: without it here the goal would time
+  // out (and be replaced) while the arm is still swinging over.
+  if (plane == Plane::kElevation) expected += switch_time_s(arm, x_mm, y_mm);
   outstanding_ = Outstanding{
       goal, scene.now_s + config().goal_timeout_factor * expected + config().goal_timeout_slack_s};
   status_.goal_id = goal.goal_id;

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "procs/planner/arm_configuration.h"
 #include "procs/planner/field_rules.h"
 #include "procs/planner/intercept_solver.h"
 #include "procs/planner/planner.h"
@@ -80,6 +81,11 @@ class SaveCyclePlanner : public Planner {
   // Delay between reaching the intercept in the elevation plane and the
   // tool being down, plus the overheads of the move and the lowering goals.
   double lowering_delay_s(const ArmModel& arm) const;
+  // Extra time, s, for an elevation-plane move of the tool to (x, y) facing
+  // the centre, when the arm's joints are known: ArmModel::configuration_switch_s
+  // when the point is outside the current configuration's region, else
+  // ArmModel::column_detour_s when the straight line passes the column, else 0.
+  double switch_time_s(const ArmModel& arm, double x_mm, double y_mm) const;
 
  private:
   std::optional<Goal> step(const Scene& scene);
@@ -95,6 +101,7 @@ class SaveCyclePlanner : public Planner {
   void set_phase(Phase phase);
 
   FieldRules rules_;
+  ArmConfiguration arm_configuration_;
   Phase phase_ = Phase::kChoosing;
   PlannerStatus status_;
 
