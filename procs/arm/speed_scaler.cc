@@ -6,6 +6,13 @@
 
 namespace ephor::arm {
 
+namespace {
+// ephor-sim's servo checks the interpolated reference against 1.5 x the
+// acceleration limit (procs/sim/arm_servo.cc); its 4 ms differences of the
+// cubic see a little more than the cubic's own end accelerations.
+constexpr double kHermiteAccelSlack = 1.45;
+}  // namespace
+
 SpeedScaler::SpeedScaler(const Puma560& arm, ScalingConfig config) : arm_(arm), config_(config) {}
 
 ScaledTrajectory SpeedScaler::sample(const TimedPath& path, double nominal_duration_s,
@@ -55,6 +62,18 @@ ScaledTrajectory SpeedScaler::sample(const TimedPath& path, double nominal_durat
     out.acceleration_ratio =
         std::max(out.acceleration_ratio, (qdd.array().abs() / lim.qdd_max.array()).maxCoeff());
     if (j > 0) {
+      // The servo follows the cubic Hermite curve through the points and
+      // their velocities, whose acceleration at a segment's ends overshoots
+      // the finite difference where the motion turns sharply (up to 1.5 x at
+      // the peak of a short move's triangular profile). It allows the
+      // interpolated reference kHermiteAccelSlack x the limit: check it.
+      const Joints& v0 = pts[static_cast<std::size_t>(j - 1)].qd;
+      const Joints dq = q_at(j) - q_at(j - 1);
+      const Joints a_start = (6.0 * dq / dt - 4.0 * v0 - 2.0 * qd) / dt;
+      const Joints a_end = (-6.0 * dq / dt + 2.0 * v0 + 4.0 * qd) / dt;
+      const double hermite = std::max((a_start.array().abs() / lim.qdd_max.array()).maxCoeff(),
+                                      (a_end.array().abs() / lim.qdd_max.array()).maxCoeff());
+      out.acceleration_ratio = std::max(out.acceleration_ratio, hermite / kHermiteAccelSlack);
       const Eigen::Vector3d tip = arm_.forward(q_at(j)).translation();
       out.peak_tool_speed_mm_s = std::max(out.peak_tool_speed_mm_s, (tip - tip_prev).norm() / dt);
       tip_prev = tip;
