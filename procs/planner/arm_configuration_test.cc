@@ -1,5 +1,6 @@
 #include "procs/planner/arm_configuration.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -147,6 +148,54 @@ TEST(ArmConfigurationTest, PlannerSavesASheepReachableAsTheArmIsBeforeSwitching)
   const auto first = strict.plan(scene);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->target, 1);
+}
+
+// Closest approach of the segment a-b to the column axis, mm.
+double clearance_from_column(const geometry::Workcell& cell, double ax, double ay, double bx,
+                             double by) {
+  const double dx = bx - ax, dy = by - ay;
+  const double t = std::clamp(
+      ((cell.base_x_mm - ax) * dx + (cell.base_y_mm - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+  return std::hypot(ax + t * dx - cell.base_x_mm, ay + t * dy - cell.base_y_mm);
+}
+
+// The arm parked at the lower-right corner, a sheep leaving over the top
+// edge left of the column: the straight line passes the column (ephor-arm
+// would take a joint-space path of ~10 s). The planner sends a straight leg
+// around the column instead, to a point reachable without a configuration
+// change.
+TEST(ArmConfigurationTest, MoveAcrossTheColumnGoesAroundItInStraightLegs) {
+  PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  Scene scene;
+  scene.arm.x_mm = pc.park_x_mm;
+  scene.arm.y_mm = pc.park_y_mm;
+  scene.arm.joints_known = true;
+  scene.arm.joints_rad = to_angles(arm::park_joints(cell));
+  scene.sheep = {Sheep{1, 450.0, 760.0, 0.0, 10.0, SheepState::kVisible}};
+
+  pc.column_waypoints = false;
+  MultiSheepPlanner straight(pc);
+  const auto direct = straight.plan(scene);
+  ASSERT_TRUE(direct.has_value());
+  ASSERT_LT(clearance_from_column(cell, scene.arm.x_mm, scene.arm.y_mm, direct->x_mm, direct->y_mm),
+            pc.tool_keepout_mm);
+
+  pc.column_waypoints = true;
+  MultiSheepPlanner around(pc);
+  const auto leg = around.plan(scene);
+  ASSERT_TRUE(leg.has_value());
+  EXPECT_EQ(leg->plane, Plane::kElevation);
+  EXPECT_EQ(leg->target, 1);
+  EXPECT_GT(std::hypot(leg->x_mm - direct->x_mm, leg->y_mm - direct->y_mm), 100.0);
+  EXPECT_GE(clearance_from_column(cell, scene.arm.x_mm, scene.arm.y_mm, leg->x_mm, leg->y_mm),
+            pc.tool_keepout_mm);
+  const double theta = std::atan2(cell.centre_y_mm() - leg->y_mm, cell.centre_x_mm() - leg->x_mm);
+  EXPECT_TRUE(
+      arm::reachable_tool_down(cell, leg->x_mm, leg->y_mm, cell.elevation_plane_z_mm, theta));
+  EXPECT_FALSE(config.needs_switch(scene.arm.joints_rad, leg->x_mm, leg->y_mm,
+                                   cell.elevation_plane_z_mm, theta));
 }
 
 // Without joints (the kinematic stand-in) the planner times every move as

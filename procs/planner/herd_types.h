@@ -164,6 +164,10 @@ struct PlannerConfig {
   // passed over for one reachable as the arm is, while it would still leave
   // the field more than this after its (switched) intercept time, s.
   double switch_defer_slack_s = 6.0;
+  // With the arm's joints known, an elevation move whose straight line
+  // passes the column is sent as straight legs around it (waypoints),
+  // instead of leaving ephor-arm a joint-space path of 4-13 s.
+  bool column_waypoints = true;
   // Look-ahead planner: saves searched ahead, candidates considered, budget.
   int lookahead_depth = 3;
   int lookahead_max_candidates = 8;

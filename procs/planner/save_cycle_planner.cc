@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <utility>
 
 namespace ephor::planner {
 
@@ -80,17 +82,62 @@ double SaveCyclePlanner::switch_time_s(const ArmModel& arm, double x_mm, double 
                                       config().workcell.elevation_plane_z_mm, theta)) {
     return arm.configuration_switch_s;
   }
+  return passes_column(arm.x_mm, arm.y_mm, x_mm, y_mm) ? arm.column_detour_s : 0.0;
+}
+
+bool SaveCyclePlanner::passes_column(double ax, double ay, double x_mm, double y_mm) const {
   // Closest approach of the straight tool path to the column axis, mm.
   const double bx = config().workcell.base_x_mm;
   const double by = config().workcell.base_y_mm;
-  const double dx = x_mm - arm.x_mm;
-  const double dy = y_mm - arm.y_mm;
+  const double dx = x_mm - ax;
+  const double dy = y_mm - ay;
   const double len2 = dx * dx + dy * dy;
-  const double t = len2 > 1e-9
-                       ? std::clamp(((bx - arm.x_mm) * dx + (by - arm.y_mm) * dy) / len2, 0.0, 1.0)
-                       : 0.0;
-  const double closest = std::hypot(arm.x_mm + t * dx - bx, arm.y_mm + t * dy - by);
-  return closest < config().tool_keepout_mm ? arm.column_detour_s : 0.0;
+  const double t =
+      len2 > 1e-9 ? std::clamp(((bx - ax) * dx + (by - ay) * dy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(ax + t * dx - bx, ay + t * dy - by) < config().tool_keepout_mm;
+}
+
+std::optional<std::pair<double, double>> SaveCyclePlanner::column_waypoint(const ArmModel& arm,
+                                                                           double x_mm,
+                                                                           double y_mm) const {
+  if (!arm.joints_known || arm.lowered || !passes_column(arm.x_mm, arm.y_mm, x_mm, y_mm)) {
+    return std::nullopt;
+  }
+  const double z = config().workcell.elevation_plane_z_mm;
+  const double cx = rules_.centre_x_mm();
+  const double cy = rules_.centre_y_mm();
+  if (arm_configuration_.needs_switch(arm.joints_rad, x_mm, y_mm, z,
+                                      std::atan2(cy - y_mm, cx - x_mm))) {
+    return std::nullopt;  // a configuration change: ephor-arm's joint-space path it is
+  }
+  const double bx = config().workcell.base_x_mm;
+  const double by = config().workcell.base_y_mm;
+  const double a0 = std::atan2(arm.y_mm - by, arm.x_mm - bx);
+  double d = std::remainder(std::atan2(y_mm - by, x_mm - bx) - a0, 2.0 * std::numbers::pi);
+  // The short way round first, then the long way (the short one may cross
+  // the wedge the current configuration cannot reach).
+  for (const double dir : {d, d > 0.0 ? d - 2.0 * std::numbers::pi : d + 2.0 * std::numbers::pi}) {
+    for (double step_deg = 80.0; step_deg >= 20.0; step_deg -= 10.0) {
+      const double step =
+          std::copysign(std::min(std::abs(dir), step_deg * std::numbers::pi / 180.0), dir);
+      const double a = a0 + step;
+      // As far out as the field allows (at most 520 mm), so that the chord
+      // from the tool stays clear of the column.
+      for (double r = 520.0; r >= config().tool_keepout_mm + 20.0; r -= 20.0) {
+        const double wx = bx + r * std::cos(a);
+        const double wy = by + r * std::sin(a);
+        if (!rules_.usable_point(wx, wy)) continue;
+        if (passes_column(arm.x_mm, arm.y_mm, wx, wy)) break;  // smaller r only gets closer
+        const double theta = std::atan2(cy - wy, cx - wx);
+        if (!arm::reachable_tool_down(config().workcell, wx, wy, z, theta) ||
+            arm_configuration_.needs_switch(arm.joints_rad, wx, wy, z, theta)) {
+          continue;
+        }
+        return std::make_pair(wx, wy);
+      }
+    }
+  }
+  return std::nullopt;
 }
 
 bool SaveCyclePlanner::on_motion_done(int64_t goal_id, bool succeeded) {
@@ -388,6 +435,16 @@ std::optional<Goal> SaveCyclePlanner::raise(const Scene& scene) {
 
 std::optional<Goal> SaveCyclePlanner::send(const Scene& scene, Plane plane, double x_mm,
                                            double y_mm, double theta_rad, int target, Phase next) {
+  // ephor-arm goes past its column by a joint-space path of 4-13 s; two or
+  // three straight legs around it take a fraction of that. The leg ends at a
+  // waypoint; verify() then re-plans from there (the next leg, or lowering).
+  if (plane == Plane::kElevation && config().column_waypoints) {
+    if (const auto wp = column_waypoint(scene.arm, x_mm, y_mm)) {
+      x_mm = wp->first;
+      y_mm = wp->second;
+      theta_rad = std::atan2(rules_.centre_y_mm() - y_mm, rules_.centre_x_mm() - x_mm);
+    }
+  }
   Goal goal;
   goal.goal_id = next_goal_id_++;
   goal.plane = plane;

@@ -21,6 +21,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "procs/planner/arm_configuration.h"
@@ -86,6 +87,15 @@ class SaveCyclePlanner : public Planner {
   // when the point is outside the current configuration's region, else
   // ArmModel::column_detour_s when the straight line passes the column, else 0.
   double switch_time_s(const ArmModel& arm, double x_mm, double y_mm) const;
+  // True when the straight tool path from (ax, ay) to (x, y) of F passes
+  // closer than tool_keepout_mm to the column.
+  bool passes_column(double ax, double ay, double x_mm, double y_mm) const;
+  // For an elevation move from the arm (joints known, tool up) whose straight
+  // line passes the column and needs no configuration change: a point around
+  // the column, reachable as the arm is, that a straight leg reaches; nullopt
+  // otherwise.
+  std::optional<std::pair<double, double>> column_waypoint(const ArmModel& arm, double x_mm,
+                                                           double y_mm) const;
 
  private:
   std::optional<Goal> step(const Scene& scene);
