@@ -61,6 +61,11 @@ function(ephor_test name)
   endif()
   set_tests_properties(${name} PROPERTIES LABELS "${labels}" TIMEOUT ${ARG_TIMEOUT}
     ENVIRONMENT "EPHOR_BIN_DIR=${CMAKE_BINARY_DIR}/bin;EPHOR_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+  if(ARG_NETNS)
+    # Multi-process tests run one at a time: several real-time pipelines
+    # sharing two cores would test the machine's load, not our code.
+    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK ephor_multiprocess)
+  endif()
 endfunction()
 
 # ephor_proto_library(NAME PROTOS common/config/x.proto ...)

@@ -7,6 +7,7 @@ namespace ephor::channels {
 inline constexpr const char* kCamera = "CAMERA";                // camera_frame_t, sim or camera -> vision
 inline constexpr const char* kGroundTruth = "GROUND_TRUTH";     // ground_truth_t, sim -> tests/display only
 inline constexpr const char* kSimCmd = "SIM_CMD";               // sim_cmd_t, display/tests -> sim
+inline constexpr const char* kSimToolLight = "SIM_TOOL_LIGHT";  // tool_light_t, calibrate -> sim
 inline constexpr const char* kBlobs = "BLOBS";                  // blobs_t, vision -> worldmodel
 inline constexpr const char* kVisionCmd = "VISION_CMD";         // vision_cmd_t, display -> vision
 inline constexpr const char* kObjects = "OBJECTS";              // objects_t, worldmodel -> planner

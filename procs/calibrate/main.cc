@@ -47,7 +47,6 @@
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/tool_light_t.hpp"
-#include "procs/calibrate/calibrate_channels.h"
 #include "procs/calibrate/calibration_plan.h"
 #include "procs/calibrate/joint_move.h"
 #include "procs/calibrate/tool_spot_finder.h"

@@ -43,7 +43,6 @@
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/sim_cmd_t.hpp"
 #include "ephor/tool_light_t.hpp"
-#include "procs/calibrate/calibrate_channels.h"
 #include "procs/sim/sim_config.h"
 #include "procs/sim/simulator.h"
 
