@@ -25,7 +25,8 @@ std::vector<std::string> manifest_hosts(const config::Manifest& manifest);
 
 // The process's args with ${param} replaced from `values` (parameter name ->
 // value); an arg that refers to an empty or missing parameter is dropped.
-std::vector<std::string> expand_args(const config::Process& process, const std::map<std::string, std::string>& values);
+std::vector<std::string> expand_args(const config::Process& process,
+                                     const std::map<std::string, std::string>& values);
 
 // -1 for "auto" / "", else the CPU index (validated on load).
 int task_cpu(const config::Task& task);

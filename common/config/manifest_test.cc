@@ -8,22 +8,22 @@ namespace ephor {
 namespace {
 
 constexpr const char* kGood = R"pb(
-name: "small"
-lcm { port: 7700 }
-host { name: "planning" }
-host { name: "arm" }
-process {
-  name: "vision"
-  host: "planning"
-  exec: "ephor-testtask"
-  task { name: "blobify" kind: PERIODIC period_ms: 50 cpu: "1" }
-}
-process {
-  name: "arm"
-  host: "arm"
-  exec: "ephor-testtask"
-  task { name: "move" kind: TRIGGERED deadline_ms: 200 }
-}
+  name: "small"
+  lcm { port: 7700 }
+  host { name: "planning" }
+  host { name: "arm" }
+  process {
+    name: "vision"
+    host: "planning"
+    exec: "ephor-testtask"
+    task { name: "blobify" kind: PERIODIC period_ms: 50 cpu: "1" }
+  }
+  process {
+    name: "arm"
+    host: "arm"
+    exec: "ephor-testtask"
+    task { name: "move" kind: TRIGGERED deadline_ms: 200 }
+  }
 )pb";
 
 // Parses `text` and returns the ConfigError message ("" when it loads).
@@ -51,7 +51,8 @@ TEST(Manifest, GoodFileLoadsWithDefaults) {
 }
 
 TEST(Manifest, NoHostsMeansOneLocalHost) {
-  const auto m = parse_manifest(R"pb(name: "x" process { name: "a" exec: "b" })pb", "x");
+  const auto m = parse_manifest(R"pb(name: "x"
+                                     process { name: "a" exec: "b" })pb", "x");
   ASSERT_EQ(manifest_hosts(m), std::vector<std::string>{"local"});
   EXPECT_EQ(m.process(0).host(), "local");
 }
@@ -62,7 +63,8 @@ TEST(Manifest, SyntaxErrorNamesFileLineAndColumn) {
 }
 
 TEST(Manifest, UnknownFieldIsNamed) {
-  const std::string err = error_of("name: \"x\"\nprocess { name: \"a\" exec: \"b\" perod_ms: 3 }\n");
+  const std::string err =
+      error_of("name: \"x\"\nprocess { name: \"a\" exec: \"b\" perod_ms: 3 }\n");
   EXPECT_NE(err.find("bad.pbtxt:2:"), std::string::npos) << err;
   EXPECT_NE(err.find("perod_ms"), std::string::npos) << err;
 }
@@ -79,27 +81,68 @@ TEST(Manifest, SemanticErrorNamesLineAndFieldPath) {
 }
 
 TEST(Manifest, RejectsBadValues) {
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: nan } })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: 1 cpu: "two" } })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: TRIGGERED } })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" task { name: "t" kind: PERIODIC period_ms: 1 priority: 120 } })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" host: "nowhere" })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" } process { name: "a" exec: "c" })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" lcm { ttl: 4 })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process {
+                            name: "a"
+                            exec: "b"
+                            task { name: "t" kind: PERIODIC period_ms: nan }
+                          })pb"),
+            "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process {
+                            name: "a"
+                            exec: "b"
+                            task { name: "t" kind: PERIODIC period_ms: 1 cpu: "two" }
+                          })pb"),
+            "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process {
+                            name: "a"
+                            exec: "b"
+                            task { name: "t" kind: TRIGGERED }
+                          })pb"),
+            "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process {
+                            name: "a"
+                            exec: "b"
+                            task { name: "t" kind: PERIODIC period_ms: 1 priority: 120 }
+                          })pb"),
+            "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process { name: "a" exec: "b" host: "nowhere" })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process { name: "a" exec: "b" }
+                          process { name: "a" exec: "c" })pb"),
+            "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          lcm { ttl: 4 })pb"), "");
   EXPECT_NE(error_of(R"pb(process { name: "a" exec: "b" })pb"), "");
 }
 
 TEST(Manifest, ParametersExpandInArgsAndEmptyOnesDropTheArg) {
-  const auto m = parse_manifest(R"pb(
-    name: "x"
-    param { name: "seed" default_value: "1" }
-    param { name: "summary" }
-    process { name: "a" exec: "b" args: ["--seed=${seed}", "--summary=${summary}", "plain", "${seed}x${seed}"] }
-  )pb", "x");
+  const auto m = parse_manifest(
+      R"pb(
+        name: "x"
+        param { name: "seed" default_value: "1" }
+        param { name: "summary" }
+        process {
+          name: "a"
+          exec: "b"
+          args: [ "--seed=${seed}", "--summary=${summary}", "plain", "${seed}x${seed}" ]
+        }
+      )pb",
+      "x");
   EXPECT_EQ(expand_args(m.process(0), {{"seed", "7"}, {"summary", ""}}),
             (std::vector<std::string>{"--seed=7", "plain", "7x7"}));
-  EXPECT_NE(error_of(R"pb(name: "x" process { name: "a" exec: "b" args: ["--n=${nope}"] })pb"), "");
-  EXPECT_NE(error_of(R"pb(name: "x" param { name: "Bad Name" })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          process {
+                            name: "a"
+                            exec: "b"
+                            args: [ "--n=${nope}" ]
+                          })pb"), "");
+  EXPECT_NE(error_of(R"pb(name: "x"
+                          param { name: "Bad Name" })pb"), "");
 }
 
 TEST(Manifest, MissingFileIsNamed) {

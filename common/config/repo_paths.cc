@@ -8,7 +8,8 @@ std::filesystem::path repo_dir() {
   if (const char* env = std::getenv("EPHOR_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
   std::error_code ec;
 #ifdef EPHOR_BUILT_FROM
-  if (std::filesystem::exists(std::filesystem::path(EPHOR_BUILT_FROM) / "deploy", ec)) return EPHOR_BUILT_FROM;
+  if (std::filesystem::exists(std::filesystem::path(EPHOR_BUILT_FROM) / "deploy", ec))
+    return EPHOR_BUILT_FROM;
 #endif
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (ec) return ".";

@@ -15,11 +15,11 @@ namespace ephor::geometry {
 struct OverheadCamera {
   int width_px = 512;
   int height_px = 482;
-  double centre_x_mm = 609.5;   // optical centre above this point of F, mm
+  double centre_x_mm = 609.5;  // optical centre above this point of F, mm
   double centre_y_mm = 457.0;
-  double height_mm = 2500.0;    // camera height above the table, mm
-  double focal_px = 906.0;      // fits the field, also seen in the elevation plane, into 512 px
-  double cu_px = 255.5;         // principal point, px
+  double height_mm = 2500.0;  // camera height above the table, mm
+  double focal_px = 906.0;    // fits the field, also seen in the elevation plane, into 512 px
+  double cu_px = 255.5;       // principal point, px
   double cv_px = 240.5;
 
   // F (mm) -> image (px). Points at or above the camera are not valid.

@@ -24,9 +24,9 @@ struct Workcell {
   // 3 x 4 ft field. Sheep bump into the pedestal (radius below).
   double base_x_mm = 609.5;
   double base_y_mm = 457.0;
-  double base_z_mm = 450.0;        // height of the base frame (shoulder axis) above the table
+  double base_z_mm = 450.0;  // height of the base frame (shoulder axis) above the table
   double pedestal_radius_mm = 70.0;
-  double tool_length_mm = 100.0;   // flange to manipulator tip along the approach axis
+  double tool_length_mm = 100.0;  // flange to manipulator tip along the approach axis
 
   bool inside_field(double x_mm, double y_mm) const {
     return x_mm >= 0.0 && x_mm <= field_length_mm && y_mm >= 0.0 && y_mm <= field_width_mm;

@@ -34,9 +34,11 @@ sigset_t shutdown_set() {
 void add_process_flags(CLI::App& app, ProcessArgs& args, const std::string& default_name) {
   args.name = env_or("EPHOR_PROCESS", default_name);
   args.host = env_or("EPHOR_HOST", hostname());
-  app.add_option("--name", args.name, "process name (sender name; task-table key)")->capture_default_str();
+  app.add_option("--name", args.name, "process name (sender name; task-table key)")
+      ->capture_default_str();
   app.add_option("--host", args.host, "host name this process belongs to")->capture_default_str();
-  app.add_option("--lcm-url", args.lcm_url, "LCM URL (default: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0)");
+  app.add_option("--lcm-url", args.lcm_url,
+                 "LCM URL (default: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0)");
   app.add_flag("--no-mlock", args.no_mlock, "do not lock memory with mlockall");
 }
 

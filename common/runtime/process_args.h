@@ -10,9 +10,9 @@
 namespace ephor {
 
 struct ProcessArgs {
-  std::string name;      // process name (sender name, task-table key)
-  std::string host;      // host name the process belongs to
-  std::string lcm_url;   // "" = LCM_DEFAULT_URL or the default
+  std::string name;     // process name (sender name, task-table key)
+  std::string host;     // host name the process belongs to
+  std::string lcm_url;  // "" = LCM_DEFAULT_URL or the default
   bool no_mlock = false;
 };
 

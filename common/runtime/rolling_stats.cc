@@ -20,7 +20,8 @@ double RollingStats::percentile(double p) const {
   if (count_ == 0) return 0.0;
   std::vector<double> v;
   v.reserve(count_);
-  for (size_t i = 0; i < count_; ++i) v.push_back(buf_[(head_ + buf_.size() - 1 - i) % buf_.size()]);
+  for (size_t i = 0; i < count_; ++i)
+    v.push_back(buf_[(head_ + buf_.size() - 1 - i) % buf_.size()]);
   p = std::clamp(p, 0.0, 100.0);
   // Nearest rank: the smallest value with at least p% of samples <= it.
   size_t rank = static_cast<size_t>(std::ceil(p / 100.0 * static_cast<double>(count_)));

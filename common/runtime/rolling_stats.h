@@ -26,7 +26,7 @@ class RollingStats {
 
  private:
   std::vector<double> buf_;
-  size_t head_ = 0;   // where the next sample goes
+  size_t head_ = 0;  // where the next sample goes
   size_t count_ = 0;
 };
 

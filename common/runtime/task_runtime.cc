@@ -56,7 +56,8 @@ struct TaskRuntime::Task {
   int64_t anchor_ns = 0;       // pending release anchor (align_release), 0 = none
 };
 
-TaskRuntime::TaskRuntime(Bus& bus, RuntimeOptions options) : bus_(bus), options_(std::move(options)) {
+TaskRuntime::TaskRuntime(Bus& bus, RuntimeOptions options)
+    : bus_(bus), options_(std::move(options)) {
   if (options_.process.empty()) throw std::invalid_argument("TaskRuntime: process name is empty");
 }
 
@@ -122,25 +123,27 @@ void TaskRuntime::start() {
   started_ = true;
   if (options_.lock_memory) {
     const std::string err = lock_process_memory();
-    if (!err.empty()) spdlog::warn("runtime: cannot lock memory ({}); page faults may add latency", err);
+    if (!err.empty())
+      spdlog::warn("runtime: cannot lock memory ({}); page faults may add latency", err);
   }
 
-  bus_.subscribe<sched_assignments_t>(channels::kSchedAssign, [this](const sched_assignments_t& msg) {
-    if (msg.host != options_.host) return;
-    for (const auto& row : msg.tasks) {
-      if (row.process != options_.process) continue;
-      Task* t = find(row.task);
-      if (t == nullptr) continue;
-      {
-        std::lock_guard<std::mutex> lock(t->mutex);
-        if (row.generation == t->counters.generation && !t->assignment_pending) continue;
-        if (t->assignment_pending && row.generation == t->pending.generation) continue;
-        t->pending = row;
-        t->assignment_pending = true;
-      }
-      t->cv.notify_all();
-    }
-  });
+  bus_.subscribe<sched_assignments_t>(
+      channels::kSchedAssign, [this](const sched_assignments_t& msg) {
+        if (msg.host != options_.host) return;
+        for (const auto& row : msg.tasks) {
+          if (row.process != options_.process) continue;
+          Task* t = find(row.task);
+          if (t == nullptr) continue;
+          {
+            std::lock_guard<std::mutex> lock(t->mutex);
+            if (row.generation == t->counters.generation && !t->assignment_pending) continue;
+            if (t->assignment_pending && row.generation == t->pending.generation) continue;
+            t->pending = row;
+            t->assignment_pending = true;
+          }
+          t->cv.notify_all();
+        }
+      });
   bus_.subscribe<task_trigger_t>(channels::kTaskTrigger, [this](const task_trigger_t& msg) {
     if (!msg.process.empty() && msg.process != options_.process) return;
     Task* t = find(msg.task);
@@ -202,8 +205,10 @@ void TaskRuntime::apply_pending(Task& task) {
   const SchedOutcome out = apply_to_calling_thread(req);
 
   if (!out.policy_ok && !g_warned_rt.exchange(true)) {
-    spdlog::warn("runtime: SCHED_FIFO refused for task {}/{}: {}. Running under SCHED_OTHER (rt=false); "
-                 "timing guarantees do not hold.", options_.process, task.name, out.error);
+    spdlog::warn(
+        "runtime: SCHED_FIFO refused for task {}/{}: {}. Running under SCHED_OTHER (rt=false); "
+        "timing guarantees do not hold.",
+        options_.process, task.name, out.error);
   }
   if (!out.affinity_ok && !g_warned_affinity.exchange(true)) {
     spdlog::warn("runtime: CPU affinity refused for task {}/{}: {}. Running on any CPU.",
@@ -218,11 +223,14 @@ void TaskRuntime::apply_pending(Task& task) {
   task.rt_error = out.error;
   task.state_changed = true;
   if (task.periodic && row.period_us > 0) task.period_ns = row.period_us * 1000;
-  if (row.deadline_us > 0) task.deadline_ns = row.deadline_us * 1000;
-  else if (task.periodic) task.deadline_ns = task.period_ns;
-  spdlog::info("runtime: task {} now cpu {} {} prio {} period {} us (generation {})", task.name,
-               task.cpu, policy_name(task.policy == task_assignment_t::POLICY_FIFO ? Policy::kFifo : Policy::kOther),
-               task.priority, to_us(task.period_ns), row.generation);
+  if (row.deadline_us > 0)
+    task.deadline_ns = row.deadline_us * 1000;
+  else if (task.periodic)
+    task.deadline_ns = task.period_ns;
+  spdlog::info(
+      "runtime: task {} now cpu {} {} prio {} period {} us (generation {})", task.name, task.cpu,
+      policy_name(task.policy == task_assignment_t::POLICY_FIFO ? Policy::kFifo : Policy::kOther),
+      task.priority, to_us(task.period_ns), row.generation);
 }
 
 void TaskRuntime::task_main(Task& task) {

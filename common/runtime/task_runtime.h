@@ -32,9 +32,9 @@
 namespace ephor {
 
 struct RuntimeOptions {
-  std::string process;        // this process's name (manifest name)
-  std::string host;           // host name; the runtime follows only this host's scheduler
-  bool lock_memory = true;    // mlockall at start(); a refusal is a warning
+  std::string process;      // this process's name (manifest name)
+  std::string host;         // host name; the runtime follows only this host's scheduler
+  bool lock_memory = true;  // mlockall at start(); a refusal is a warning
 };
 
 // Statistics of one task as kept by the runtime (for tests and logs).
@@ -42,8 +42,8 @@ struct TaskCounters {
   int64_t jobs = 0;
   int64_t deadline_misses = 0;
   int64_t skipped_releases = 0;
-  int64_t merged_triggers = 0;   // triggers that arrived while a job was already pending
-  int32_t generation = -1;       // assignment generation applied, -1 = none yet
+  int64_t merged_triggers = 0;  // triggers that arrived while a job was already pending
+  int32_t generation = -1;      // assignment generation applied, -1 = none yet
   bool rt_granted = false;
 };
 

@@ -39,10 +39,11 @@ SchedOutcome apply_to_calling_thread(const SchedRequest& req) {
       getrlimit(RLIMIT_RTPRIO, &rl);
       out.policy_ok = false;
       if (!out.error.empty()) out.error += "; ";
-      out.error += "sched_setscheduler(SCHED_FIFO, " + std::to_string(req.priority) +
-                   "): " + std::strerror(err) + " (RLIMIT_RTPRIO " +
-                   (rl.rlim_cur == RLIM_INFINITY ? std::string("unlimited") : std::to_string(rl.rlim_cur)) +
-                   "; needs CAP_SYS_NICE or ulimit -r >= priority)";
+      out.error +=
+          "sched_setscheduler(SCHED_FIFO, " + std::to_string(req.priority) +
+          "): " + std::strerror(err) + " (RLIMIT_RTPRIO " +
+          (rl.rlim_cur == RLIM_INFINITY ? std::string("unlimited") : std::to_string(rl.rlim_cur)) +
+          "; needs CAP_SYS_NICE or ulimit -r >= priority)";
       param.sched_priority = 0;
       sched_setscheduler(0, SCHED_OTHER, &param);
     }
@@ -76,7 +77,8 @@ SchedReadback read_thread_sched(pid_t tid) {
 }
 
 std::string lock_process_memory() {
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) return std::string("mlockall: ") + std::strerror(errno);
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    return std::string("mlockall: ") + std::strerror(errno);
   return "";
 }
 

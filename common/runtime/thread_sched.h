@@ -11,15 +11,15 @@ namespace ephor {
 enum class Policy { kOther = 0, kFifo = 1 };
 
 struct SchedRequest {
-  int cpu = -1;               // -1 = any CPU
+  int cpu = -1;  // -1 = any CPU
   Policy policy = Policy::kOther;
-  int priority = 0;           // SCHED_FIFO priority 1..99
+  int priority = 0;  // SCHED_FIFO priority 1..99
 };
 
 struct SchedOutcome {
   bool affinity_ok = true;
   bool policy_ok = true;
-  std::string error;          // why something was refused, "" when all applied
+  std::string error;  // why something was refused, "" when all applied
 };
 
 // Applies `req` to the calling thread. When SCHED_FIFO is refused (EPERM,
@@ -29,10 +29,10 @@ struct SchedOutcome {
 SchedOutcome apply_to_calling_thread(const SchedRequest& req);
 
 struct SchedReadback {
-  int cpu = -1;               // the single CPU the thread is pinned to, -1 when it may use several
+  int cpu = -1;  // the single CPU the thread is pinned to, -1 when it may use several
   Policy policy = Policy::kOther;
   int priority = 0;
-  bool ok = false;            // false when the thread does not exist (anymore)
+  bool ok = false;  // false when the thread does not exist (anymore)
 };
 
 // Reads back what thread `tid` (any process) is running with.

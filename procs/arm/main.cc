@@ -28,9 +28,9 @@
 
 #include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
+#include "common/config/repo_paths.h"
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
-#include "common/config/repo_paths.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"

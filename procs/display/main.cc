@@ -107,21 +107,11 @@ struct Shared {
 };
 
 const std::vector<std::string>& heard_channels() {
-  static const std::vector<std::string> list = {channels::kCamera,
-                                                channels::kGroundTruth,
-                                                channels::kSimCmd,
-                                                channels::kBlobs,
-                                                channels::kVisionCmd,
-                                                channels::kObjects,
-                                                channels::kPlannerStatus,
-                                                channels::kArmGoal,
-                                                channels::kMotionDone,
-                                                channels::kArmCmd,
-                                                channels::kArmAck,
-                                                channels::kArmState,
-                                                channels::kSchedStatus,
-                                                channels::kPlannerCmd,
-                                                channels::kDisplayBox};
+  static const std::vector<std::string> list = {
+      channels::kCamera,      channels::kGroundTruth, channels::kSimCmd,        channels::kBlobs,
+      channels::kVisionCmd,   channels::kObjects,     channels::kPlannerStatus, channels::kArmGoal,
+      channels::kMotionDone,  channels::kArmCmd,      channels::kArmAck,        channels::kArmState,
+      channels::kSchedStatus, channels::kPlannerCmd,  channels::kDisplayBox};
   return list;
 }
 
@@ -262,9 +252,8 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
                            [&](const arm_ack_t& m) { snap.put(channels::kArmAck, m); });
   bus.subscribe<motion_done_t>(channels::kMotionDone,
                                [&](const motion_done_t& m) { snap.put(channels::kMotionDone, m); });
-  bus.subscribe<display_box_t>(channels::kDisplayBox, [&](const display_box_t& m) {
-    snap.put(channels::kDisplayBox, m);
-  });
+  bus.subscribe<display_box_t>(channels::kDisplayBox,
+                               [&](const display_box_t& m) { snap.put(channels::kDisplayBox, m); });
 }
 
 void update_rates(Bus& bus, Shared& sh) {

@@ -63,12 +63,19 @@ int main(int argc, char** argv) {
   int grace_ms = 3000;
   bool no_scheduler = false;
   bool headless = false;
-  app.add_option("manifest", manifest_path, "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")->required();
-  app.add_option("--duration", duration_s, "stop everything after S seconds (0 = until Ctrl-C)")->check(CLI::NonNegativeNumber);
-  app.add_option("--host", only_host, "start only the processes of this host (default: all hosts, here)");
-  app.add_option("--arg", extra_args, "PROCESS=ARG: append ARG to PROCESS's command line (repeatable)");
-  app.add_option("--grace-ms", grace_ms, "time between SIGTERM and SIGKILL when stopping")->check(CLI::NonNegativeNumber);
-  app.add_flag("--no-scheduler", no_scheduler, "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
+  app.add_option("manifest", manifest_path,
+                 "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")
+      ->required();
+  app.add_option("--duration", duration_s, "stop everything after S seconds (0 = until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--host", only_host,
+                 "start only the processes of this host (default: all hosts, here)");
+  app.add_option("--arg", extra_args,
+                 "PROCESS=ARG: append ARG to PROCESS's command line (repeatable)");
+  app.add_option("--grace-ms", grace_ms, "time between SIGTERM and SIGKILL when stopping")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--no-scheduler", no_scheduler,
+               "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
   app.add_flag("--headless", headless, "do not start user-interface processes (gui: true)");
   app.allow_extras();
   app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
@@ -114,10 +121,11 @@ int main(int argc, char** argv) {
   for (const auto& a : extra_args) {
     const auto eq = a.find('=');
     bool known = false;
-    for (const auto& p : manifest.process()) known = known || (eq != std::string::npos && p.name() == a.substr(0, eq));
+    for (const auto& p : manifest.process())
+      known = known || (eq != std::string::npos && p.name() == a.substr(0, eq));
     if (!known) {
-      std::fprintf(stderr, "[launch] --arg '%s': want PROCESS=ARG with a process of %s\n", a.c_str(),
-                   manifest_path.c_str());
+      std::fprintf(stderr, "[launch] --arg '%s': want PROCESS=ARG with a process of %s\n",
+                   a.c_str(), manifest_path.c_str());
       return 2;
     }
     more_args[a.substr(0, eq)].push_back(a.substr(eq + 1));
@@ -125,15 +133,18 @@ int main(int argc, char** argv) {
   if (!only_host.empty()) {
     const auto hosts = manifest_hosts(manifest);
     if (std::find(hosts.begin(), hosts.end(), only_host) == hosts.end()) {
-      std::fprintf(stderr, "[launch] --host %s: not a host of %s\n", only_host.c_str(), manifest_path.c_str());
+      std::fprintf(stderr, "[launch] --host %s: not a host of %s\n", only_host.c_str(),
+                   manifest_path.c_str());
       return 2;
     }
   }
 
   // The manifest's URL, unless the caller set one (tests, several systems).
   const char* env_url = std::getenv("LCM_DEFAULT_URL");
-  const std::string url = env_url != nullptr && *env_url != '\0' ? env_url : manifest_lcm_url(manifest);
-  const std::string bin_dir = std::getenv("EPHOR_BIN_DIR") != nullptr ? std::getenv("EPHOR_BIN_DIR") : self_dir();
+  const std::string url =
+      env_url != nullptr && *env_url != '\0' ? env_url : manifest_lcm_url(manifest);
+  const std::string bin_dir =
+      std::getenv("EPHOR_BIN_DIR") != nullptr ? std::getenv("EPHOR_BIN_DIR") : self_dir();
   const std::string abs_manifest = std::filesystem::absolute(manifest_path).string();
 
   std::vector<ProcessSpec> specs;
@@ -144,27 +155,29 @@ int main(int argc, char** argv) {
   for (const auto& p : manifest.process())
     if (selected(p)) hosts.insert(p.host());
   auto base_env = [&](const std::string& name, const std::string& host) {
-    return std::vector<std::pair<std::string, std::string>>{{"EPHOR_LAUNCHED", "1"},
-                                                            {"EPHOR_PROCESS", name},
-                                                            {"EPHOR_HOST", host},
-                                                            {"EPHOR_MANIFEST", abs_manifest},
-                                                            {"EPHOR_BIN_DIR", bin_dir},
-                                                            {"LCM_DEFAULT_URL", url}};
+    return std::vector<std::pair<std::string, std::string>>{
+        {"EPHOR_LAUNCHED", "1"},          {"EPHOR_PROCESS", name},    {"EPHOR_HOST", host},
+        {"EPHOR_MANIFEST", abs_manifest}, {"EPHOR_BIN_DIR", bin_dir}, {"LCM_DEFAULT_URL", url}};
   };
   if (!no_scheduler) {
     for (const auto& host : hosts) {
       const std::string name = hosts.size() == 1 ? "scheduler" : "scheduler@" + host;
-      specs.push_back({name, resolve_executable("ephor-scheduler", bin_dir),
-                       {"--manifest", abs_manifest, "--host", host}, base_env(name, host), false});
+      specs.push_back({name,
+                       resolve_executable("ephor-scheduler", bin_dir),
+                       {"--manifest", abs_manifest, "--host", host},
+                       base_env(name, host),
+                       false});
     }
   }
   for (const auto& p : manifest.process()) {
     if (!selected(p)) continue;
-    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), expand_args(p, params), base_env(p.name(), p.host()),
-                  p.allow_exit()};
+    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), expand_args(p, params),
+                  base_env(p.name(), p.host()), p.allow_exit()};
     for (const auto& a : more_args[p.name()]) s.args.push_back(a);
     if (s.path.empty()) {
-      std::fprintf(stderr, "[launch] cannot start %s: executable '%s' not found in %s or $PATH (built? try: tools/ephor build)\n",
+      std::fprintf(stderr,
+                   "[launch] cannot start %s: executable '%s' not found in %s or $PATH (built? "
+                   "try: tools/ephor build)\n",
                    p.name().c_str(), p.exec().c_str(), bin_dir.c_str());
       return 1;
     }
@@ -191,14 +204,16 @@ int main(int argc, char** argv) {
     }
   }
   if (rc == 0) {
-    say(duration_s > 0 ? "running for " + fmt_seconds(duration_s) : "running; Ctrl-C stops everything");
-    const int64_t end_ns = duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+    say(duration_s > 0 ? "running for " + fmt_seconds(duration_s)
+                       : "running; Ctrl-C stops everything");
+    const int64_t end_ns =
+        duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
     while (true) {
       bool failed = false;
       for (const auto& e : group.poll(100)) {
         if (e.failure) {
-          std::fprintf(stderr, "[launch] process %s died unexpectedly: %s; stopping everything\n", e.name.c_str(),
-                       e.describe().c_str());
+          std::fprintf(stderr, "[launch] process %s died unexpectedly: %s; stopping everything\n",
+                       e.name.c_str(), e.describe().c_str());
           failed = true;
         } else {
           say(e.name + " finished");
@@ -219,7 +234,8 @@ int main(int argc, char** argv) {
     }
   }
   for (const auto& e : group.stop_all(std::chrono::milliseconds(grace_ms))) {
-    if (e.signaled && e.code == SIGKILL) say(e.name + " did not stop within the grace time: killed");
+    if (e.signaled && e.code == SIGKILL)
+      say(e.name + " did not stop within the grace time: killed");
   }
   say(rc == 0 ? "all stopped" : "all stopped after a failure");
   return rc;

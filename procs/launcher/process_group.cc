@@ -60,7 +60,8 @@ pid_t ProcessGroup::start(const ProcessSpec& spec) {
 
   const pid_t parent = getpid();
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("cannot start " + spec.name + ": fork: " + std::strerror(errno));
+  if (pid < 0)
+    throw std::runtime_error("cannot start " + spec.name + ": fork: " + std::strerror(errno));
   if (pid == 0) {
     // Child: only async-signal-safe work until exec.
     setpgid(0, 0);
@@ -68,7 +69,8 @@ pid_t ProcessGroup::start(const ProcessSpec& spec) {
     if (getppid() != parent) _exit(127);
     sigset_t none;
     sigemptyset(&none);
-    sigprocmask(SIG_SETMASK, &none, nullptr);  // the launcher blocks SIGINT/SIGTERM; children must not inherit that
+    sigprocmask(SIG_SETMASK, &none,
+                nullptr);  // the launcher blocks SIGINT/SIGTERM; children must not inherit that
     dup2(out[1], STDOUT_FILENO);
     dup2(out[1], STDERR_FILENO);
     for (const auto& [k, v] : spec.env) setenv(k.c_str(), v.c_str(), 1);
@@ -88,7 +90,8 @@ pid_t ProcessGroup::start(const ProcessSpec& spec) {
   if (n == sizeof child_errno) {
     waitpid(pid, nullptr, 0);
     close(out[0]);
-    throw std::runtime_error("cannot start " + spec.name + " (" + spec.path + "): " + std::strerror(child_errno));
+    throw std::runtime_error("cannot start " + spec.name + " (" + spec.path +
+                             "): " + std::strerror(child_errno));
   }
   fcntl(out[0], F_SETFL, fcntl(out[0], F_GETFL) | O_NONBLOCK);
   Child c;

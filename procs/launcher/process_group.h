@@ -18,11 +18,11 @@
 namespace ephor::launcher {
 
 struct ProcessSpec {
-  std::string name;                                         // shown as the output prefix
-  std::string path;                                         // executable
-  std::vector<std::string> args;                           // argv[1..]
-  std::vector<std::pair<std::string, std::string>> env;    // added to the launcher's environment
-  bool allow_exit = false;                                  // exit status 0 is not a failure
+  std::string name;                                      // shown as the output prefix
+  std::string path;                                      // executable
+  std::vector<std::string> args;                         // argv[1..]
+  std::vector<std::pair<std::string, std::string>> env;  // added to the launcher's environment
+  bool allow_exit = false;                               // exit status 0 is not a failure
 };
 
 struct ExitInfo {
@@ -31,7 +31,8 @@ struct ExitInfo {
   bool signaled = false;  // killed by a signal (code = signal number)
   int code = 0;           // exit status or signal number
   bool failure = false;   // not an allowed exit (non-zero, signal, or 0 without allow_exit)
-  std::string describe() const;  // e.g. "exited with status 3", "killed by signal 11 (Segmentation fault)"
+  std::string describe()
+      const;  // e.g. "exited with status 3", "killed by signal 11 (Segmentation fault)"
 };
 
 class ProcessGroup {

@@ -12,7 +12,8 @@ namespace {
 struct Captured {
   std::map<std::string, std::vector<std::string>> lines;
   ProcessGroup::LineHandler handler() {
-    return [this](const std::string& name, const std::string& line) { lines[name].push_back(line); };
+    return
+        [this](const std::string& name, const std::string& line) { lines[name].push_back(line); };
   }
 };
 

@@ -8,8 +8,8 @@
 #include <mutex>
 #include <set>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
   double every_s = 5.0;
   app.add_option("--summary", summary_path, "write the run summary (JSON) here on exit");
   app.add_option("--scenario", scenario, "scenario name written into the summary");
-  app.add_option("--status-every", every_s, "seconds between status lines (0 = none)")->check(CLI::NonNegativeNumber);
+  app.add_option("--status-every", every_s, "seconds between status lines (0 = none)")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
 
@@ -52,7 +53,8 @@ int main(int argc, char** argv) {
       t.escapes = m.escapes;
       t.saves = m.saves;
       t.sim_time_s = m.sim_time_s;
-      for (const auto& s : m.sheep) t.sheep.push_back({s.id, s.x_mm, s.y_mm, s.u, s.v, s.visible != 0, s.on_field != 0});
+      for (const auto& s : m.sheep)
+        t.sheep.push_back({s.id, s.x_mm, s.y_mm, s.u, s.v, s.visible != 0, s.on_field != 0});
       std::lock_guard<std::mutex> lock(mutex);
       mon.on_truth(t);
     });
@@ -63,7 +65,8 @@ int main(int argc, char** argv) {
     bus.subscribe<objects_t>(channels::kObjects, [&](const objects_t& m) {
       std::vector<monitor::TrackedObject> objs;
       for (const auto& o : m.objects)
-        objs.push_back({o.id, o.state == object_t::STATE_VISIBLE, o.state == object_t::STATE_DEAD, o.x_mm, o.y_mm, o.u, o.v});
+        objs.push_back({o.id, o.state == object_t::STATE_VISIBLE, o.state == object_t::STATE_DEAD,
+                        o.x_mm, o.y_mm, o.u, o.v});
       std::lock_guard<std::mutex> lock(mutex);
       mon.on_objects(m.utime, m.header.utime, objs, wall_us());
     });
@@ -71,7 +74,8 @@ int main(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(mutex);
       mon.on_arm_goal(m.source_frame_utime, m.header.utime);
     });
-    std::set<std::pair<std::string, int64_t>> seen_cmds;  // (sender, seq): retransmissions are not new commands
+    std::set<std::pair<std::string, int64_t>>
+        seen_cmds;  // (sender, seq): retransmissions are not new commands
     bus.subscribe<arm_cmd_t>(channels::kArmCmd, [&](const arm_cmd_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
       if (!seen_cmds.insert({m.header.sender, m.seq}).second) return;

@@ -30,7 +30,8 @@ nlohmann::json Summary::to_json() const {
   j["saves"] = saves;
   j["vision_rate_hz"] = vision_rate_hz;
   j["objects_rate_hz"] = objects_rate_hz;
-  j["latency_ms"] = {{"p50", latency_p50_ms}, {"p99", latency_p99_ms}, {"samples", latency_samples}};
+  j["latency_ms"] = {
+      {"p50", latency_p50_ms}, {"p99", latency_p99_ms}, {"samples", latency_samples}};
   j["id_switches"] = id_switches;
   j["position_error_px_rms"] = position_error_px_rms;
   j["deadline_misses"] = deadline_misses;
@@ -38,7 +39,8 @@ nlohmann::json Summary::to_json() const {
   j["scheduler_seen"] = have_sched_status;
   j["arm_commands"] = arm_commands;
   for (const auto& st : stages)
-    j["pipeline_latency_ms"][st.name] = {{"p50", st.p50_ms}, {"p99", st.p99_ms}, {"samples", st.samples}};
+    j["pipeline_latency_ms"][st.name] = {
+        {"p50", st.p50_ms}, {"p99", st.p99_ms}, {"samples", st.samples}};
   return j;
 }
 
@@ -67,14 +69,15 @@ void RunMonitor::on_arm_goal(int64_t source_frame_utime, int64_t published_us) {
   add_latency(goal_ms_, source_frame_utime, published_us);
 }
 
-void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us, const std::vector<TrackedObject>& objects,
-                            int64_t now_us) {
+void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us,
+                            const std::vector<TrackedObject>& objects, int64_t now_us) {
   push_time(object_times_, now_us);
   add_latency(objects_ms_, frame_utime, published_us);
   const Truth* truth = nullptr;
   for (const auto& t : truths_)
     if (t.utime == frame_utime) truth = &t;
-  if (truth == nullptr) return;  // no ground truth for this frame (real camera, or not yet received)
+  if (truth == nullptr)
+    return;  // no ground truth for this frame (real camera, or not yet received)
   for (const auto& s : truth->sheep) {
     if (!s.visible || !s.on_field) continue;
     const TrackedObject* best = nullptr;
@@ -116,7 +119,9 @@ Summary RunMonitor::summary(int64_t now_us) const {
   for (const auto& sh : last_truth_.sheep) s.sheep += sh.on_field ? 1 : 0;
   s.escapes = last_truth_.escapes;
   s.saves = last_truth_.saves;
-  auto fresh = [now_us](const std::deque<int64_t>& q) { return !q.empty() && now_us - q.back() < 2'000'000; };
+  auto fresh = [now_us](const std::deque<int64_t>& q) {
+    return !q.empty() && now_us - q.back() < 2'000'000;
+  };
   s.vision_rate_hz = fresh(blob_times_) ? rate_hz(blob_times_) : 0.0;
   s.objects_rate_hz = fresh(object_times_) ? rate_hz(object_times_) : 0.0;
   s.latency_p50_ms = latency_ms_.percentile(50);
@@ -139,12 +144,13 @@ Summary RunMonitor::summary(int64_t now_us) const {
 std::string RunMonitor::status_line(int64_t now_us) const {
   const Summary s = summary(now_us);
   char buf[320];
-  std::snprintf(buf, sizeof buf,
-                "t=%.0fs  sheep on field %d  saves %d  escapes %d  vision %.1f Hz  objects %.1f Hz  "
-                "arm cmds %lld  latency p50 %.2f ms p99 %.2f ms  id switches %lld  rt %s",
-                s.duration_s, s.sheep, s.saves, s.escapes, s.vision_rate_hz, s.objects_rate_hz,
-                static_cast<long long>(s.arm_commands), s.latency_p50_ms, s.latency_p99_ms,
-                static_cast<long long>(s.id_switches), !s.have_sched_status ? "?" : (s.rt ? "yes" : "no"));
+  std::snprintf(
+      buf, sizeof buf,
+      "t=%.0fs  sheep on field %d  saves %d  escapes %d  vision %.1f Hz  objects %.1f Hz  "
+      "arm cmds %lld  latency p50 %.2f ms p99 %.2f ms  id switches %lld  rt %s",
+      s.duration_s, s.sheep, s.saves, s.escapes, s.vision_rate_hz, s.objects_rate_hz,
+      static_cast<long long>(s.arm_commands), s.latency_p50_ms, s.latency_p99_ms,
+      static_cast<long long>(s.id_switches), !s.have_sched_status ? "?" : (s.rt ? "yes" : "no"));
   return buf;
 }
 

@@ -47,7 +47,7 @@ struct TrackedObject {
 struct Summary {
   std::string scenario;
   double duration_s = 0;
-  int sheep = 0;            // sheep on the field at the end
+  int sheep = 0;  // sheep on the field at the end
   int escapes = 0;
   int saves = 0;
   double vision_rate_hz = 0;
@@ -77,8 +77,8 @@ class RunMonitor {
   void on_truth(const Truth& truth);
   // `published_us`: the message's header time (sender's publish time).
   void on_blobs(int64_t frame_utime, int64_t published_us, int64_t now_us);
-  void on_objects(int64_t frame_utime, int64_t published_us, const std::vector<TrackedObject>& objects,
-                  int64_t now_us);
+  void on_objects(int64_t frame_utime, int64_t published_us,
+                  const std::vector<TrackedObject>& objects, int64_t now_us);
   void on_arm_goal(int64_t source_frame_utime, int64_t published_us);
   // An arm command left comm at `sent_us`, planned from the frame captured at
   // `source_frame_utime` (both wall clock of this host, us).
@@ -92,9 +92,9 @@ class RunMonitor {
   std::string scenario_;
   double match_radius_mm_;
   int64_t start_us_ = 0;
-  std::deque<Truth> truths_;             // recent frames, for matching objects by capture time
+  std::deque<Truth> truths_;  // recent frames, for matching objects by capture time
   Truth last_truth_;
-  std::map<int32_t, int32_t> matched_;   // truth id -> object id
+  std::map<int32_t, int32_t> matched_;  // truth id -> object id
   int64_t id_switches_ = 0;
   double err_sq_sum_ = 0;
   int64_t err_n_ = 0;

@@ -59,8 +59,8 @@ TEST(RunMonitor, SummaryJsonHasTheDocumentedKeys) {
   RunMonitor m("shepherd");
   m.on_sched_status(true, 3);
   const auto j = m.summary(0).to_json();
-  for (const char* key : {"scenario", "duration_s", "sheep", "escapes", "saves", "vision_rate_hz", "latency_ms",
-                          "id_switches", "deadline_misses", "rt"})
+  for (const char* key : {"scenario", "duration_s", "sheep", "escapes", "saves", "vision_rate_hz",
+                          "latency_ms", "id_switches", "deadline_misses", "rt"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["deadline_misses"], 3);
   EXPECT_EQ(j["rt"], true);

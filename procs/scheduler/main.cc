@@ -9,8 +9,8 @@
 
 #include <mutex>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "common/config/manifest.h"
 #include "common/config/text_proto.h"
@@ -41,7 +41,8 @@ sched_assignments_t to_msg(const std::vector<Assignment>& rows, const std::strin
     t.process = a.process;
     t.task = a.task;
     t.cpu = a.cpu;
-    t.policy = a.policy == Policy::kFifo ? task_assignment_t::POLICY_FIFO : task_assignment_t::POLICY_OTHER;
+    t.policy = a.policy == Policy::kFifo ? task_assignment_t::POLICY_FIFO
+                                         : task_assignment_t::POLICY_OTHER;
     t.priority = a.priority;
     t.period_us = a.period_us;
     t.deadline_us = a.deadline_us;
@@ -52,7 +53,8 @@ sched_assignments_t to_msg(const std::vector<Assignment>& rows, const std::strin
   return msg;
 }
 
-sched_status_t to_msg(const HostStatus& hs, const std::vector<std::string>& events, const std::string& host) {
+sched_status_t to_msg(const HostStatus& hs, const std::vector<std::string>& events,
+                      const std::string& host) {
   sched_status_t msg{};
   msg.utime = wall_us();
   msg.host = host;
@@ -96,13 +98,15 @@ sched_status_t to_msg(const HostStatus& hs, const std::vector<std::string>& even
 }
 
 void print_table(const HostStatus& hs) {
-  spdlog::info("{:<24} {:>5} {:>4} {:<11} {:>4} {:>9} {:>9} {:>9} {:>9} {:>6} {:>3}", "task", "pid", "cpu",
-               "policy", "prio", "period_us", "exec_p99", "jit_p99", "jit_max", "misses", "rt");
+  spdlog::info("{:<24} {:>5} {:>4} {:<11} {:>4} {:>9} {:>9} {:>9} {:>9} {:>6} {:>3}", "task", "pid",
+               "cpu", "policy", "prio", "period_us", "exec_p99", "jit_p99", "jit_max", "misses",
+               "rt");
   for (const auto& t : hs.tasks) {
     spdlog::info("{:<24} {:>5} {:>4} {:<11} {:>4} {:>9} {:>9.0f} {:>9.0f} {:>9.0f} {:>6} {:>3}",
                  t.assignment.process + "/" + t.assignment.task, t.pid, t.readback.cpu,
-                 t.alive ? policy_name(t.readback.policy) : "-", t.readback.priority, t.assignment.period_us,
-                 t.exec_p99, t.jitter_p99, t.jitter_max, t.deadline_misses, t.rt_granted ? "yes" : "no");
+                 t.alive ? policy_name(t.readback.policy) : "-", t.readback.priority,
+                 t.assignment.period_us, t.exec_p99, t.jitter_p99, t.jitter_max, t.deadline_misses,
+                 t.rt_granted ? "yes" : "no");
   }
 }
 
@@ -116,7 +120,8 @@ int main(int argc, char** argv) {
   std::string manifest_path;
   double print_every_s = 10.0;
   app.add_option("--manifest", manifest_path, "deployment manifest (Protobuf text)")->required();
-  app.add_option("--print-every", print_every_s, "print the task table every S seconds (0 = never)");
+  app.add_option("--print-every", print_every_s,
+                 "print the task table every S seconds (0 = never)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
 
@@ -129,8 +134,10 @@ int main(int argc, char** argv) {
       for (int c = 0; c < online_cpus(); ++c) cfg.cpus.push_back(c);
     for (int c : cfg.cpus)
       if (c >= online_cpus())
-        spdlog::warn("manifest names CPU {} but this host has {} online CPUs; tasks pinned there will be refused",
-                     c, online_cpus());
+        spdlog::warn(
+            "manifest names CPU {} but this host has {} online CPUs; tasks pinned there will be "
+            "refused",
+            c, online_cpus());
     cfg.fixed_bound = sc.utilisation_bound();
     cfg.history = sc.history();
     cfg.estimate_window = sc.estimate_window();
@@ -143,7 +150,8 @@ int main(int argc, char** argv) {
 
     // --lcm-url, else $LCM_DEFAULT_URL (set by the launcher), else the manifest's.
     const bool env_url = std::getenv("LCM_DEFAULT_URL") != nullptr;
-    const std::string url = resolve_lcm_url(!args.lcm_url.empty() || env_url ? args.lcm_url : manifest_lcm_url(manifest));
+    const std::string url = resolve_lcm_url(
+        !args.lcm_url.empty() || env_url ? args.lcm_url : manifest_lcm_url(manifest));
     Bus bus(url, args.name);
     std::mutex mutex;
     bool publish_now = true;
@@ -164,13 +172,15 @@ int main(int argc, char** argv) {
       r.rt_granted = m.rt_granted;
       r.rt_error = m.rt_error;
       r.generation = m.generation;
-      for (const auto& j : m.jobs) r.jobs.push_back({j.start_latency_us, j.exec_us, j.cpu_us, j.deadline_met != 0, j.skipped_releases});
+      for (const auto& j : m.jobs)
+        r.jobs.push_back(
+            {j.start_latency_us, j.exec_us, j.cpu_us, j.deadline_met != 0, j.skipped_releases});
       std::lock_guard<std::mutex> lock(mutex);
       sched.on_jobs(r, mono_us());
     });
     bus.start();
-    spdlog::info("scheduling {} task(s) of host '{}' on CPUs [{}], status every {} s, LCM {}", table.size(),
-                 args.host, fmt::join(cfg.cpus, ","), sc.status_period_s(), url);
+    spdlog::info("scheduling {} task(s) of host '{}' on CPUs [{}], status every {} s, LCM {}",
+                 table.size(), args.host, fmt::join(cfg.cpus, ","), sc.status_period_s(), url);
 
     const int64_t period_us = static_cast<int64_t>(sc.status_period_s() * 1e6);
     int64_t next_status = mono_us();
@@ -183,9 +193,10 @@ int main(int argc, char** argv) {
         for (const auto& e : sched.rebalance(now)) spdlog::warn("{}", e);
         for (const auto& refusal : sched.take_new_refusals()) {
           if (!warned_rt) {
-            spdlog::warn("SCHED_FIFO was refused ({}). Those tasks run under SCHED_OTHER and status reports "
-                         "rt=false: run as root, grant CAP_SYS_NICE, or raise RLIMIT_RTPRIO (ulimit -r 99).",
-                         refusal);
+            spdlog::warn(
+                "SCHED_FIFO was refused ({}). Those tasks run under SCHED_OTHER and status reports "
+                "rt=false: run as root, grant CAP_SYS_NICE, or raise RLIMIT_RTPRIO (ulimit -r 99).",
+                refusal);
             warned_rt = true;
           } else {
             spdlog::info("SCHED_FIFO also refused for {}", refusal);

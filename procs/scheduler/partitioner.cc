@@ -12,10 +12,12 @@ double liu_layland_bound(int n) {
   return n * (std::pow(2.0, 1.0 / n) - 1.0);
 }
 
-double cpu_bound(int n, double fixed_bound) { return fixed_bound > 0.0 ? fixed_bound : liu_layland_bound(n); }
+double cpu_bound(int n, double fixed_bound) {
+  return fixed_bound > 0.0 ? fixed_bound : liu_layland_bound(n);
+}
 
-Partition first_fit_decreasing(const std::vector<PartitionItem>& items, const std::vector<int>& cpus,
-                               double fixed_bound) {
+Partition first_fit_decreasing(const std::vector<PartitionItem>& items,
+                               const std::vector<int>& cpus, double fixed_bound) {
   Partition p;
   p.cpu_of.assign(items.size(), cpus.empty() ? -1 : cpus.front());
   p.cpu_utilisation.assign(cpus.size(), 0.0);
@@ -91,7 +93,8 @@ std::optional<Migration> plan_migration(const std::vector<double>& utilisation,
     std::vector<size_t> cand;
     for (size_t i = 0; i < cpu_of.size(); ++i)
       if (movable[i] && cpu_of[i] == cpus[c]) cand.push_back(i);
-    std::stable_sort(cand.begin(), cand.end(), [&](size_t a, size_t b) { return utilisation[a] > utilisation[b]; });
+    std::stable_sort(cand.begin(), cand.end(),
+                     [&](size_t a, size_t b) { return utilisation[a] > utilisation[b]; });
     for (size_t i : cand) {
       int best = -1;
       for (size_t d = 0; d < cpus.size(); ++d) {
@@ -101,8 +104,8 @@ std::optional<Migration> plan_migration(const std::vector<double>& utilisation,
       }
       if (best < 0) continue;
       char reason[160];
-      std::snprintf(reason, sizeof reason, "CPU %d utilisation %.2f > bound %.2f (%d tasks)", cpus[c], load[c],
-                    bound, count[c]);
+      std::snprintf(reason, sizeof reason, "CPU %d utilisation %.2f > bound %.2f (%d tasks)",
+                    cpus[c], load[c], bound, count[c]);
       return Migration{i, cpus[c], cpus[static_cast<size_t>(best)], reason};
     }
   }

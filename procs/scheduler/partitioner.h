@@ -21,10 +21,10 @@ struct PartitionItem {
 };
 
 struct Partition {
-  std::vector<int> cpu_of;             // per item, an index into `cpus`' values
-  std::vector<double> cpu_utilisation; // per CPU (same order as `cpus`)
-  std::vector<int> cpu_tasks;          // number of tasks per CPU
-  bool feasible = true;                // every CPU within its bound
+  std::vector<int> cpu_of;              // per item, an index into `cpus`' values
+  std::vector<double> cpu_utilisation;  // per CPU (same order as `cpus`)
+  std::vector<int> cpu_tasks;           // number of tasks per CPU
+  bool feasible = true;                 // every CPU within its bound
 };
 
 // Bound for a CPU with n tasks: `fixed_bound` when > 0, else Liu & Layland.
@@ -34,8 +34,8 @@ double cpu_bound(int n, double fixed_bound);
 // utilisation first, go to the first CPU (in `cpus` order) where they fit
 // within the bound; an item that fits nowhere goes to the least-loaded CPU
 // and the partition is marked infeasible. `cpus` holds CPU numbers.
-Partition first_fit_decreasing(const std::vector<PartitionItem>& items, const std::vector<int>& cpus,
-                               double fixed_bound);
+Partition first_fit_decreasing(const std::vector<PartitionItem>& items,
+                               const std::vector<int>& cpus, double fixed_bound);
 
 struct Migration {
   size_t item = 0;

@@ -61,19 +61,23 @@ TEST(PlanMigration, MovesLargestMovableTaskThatFits) {
 }
 
 TEST(PlanMigration, NoMoveWhenNothingFitsElsewhere) {
-  EXPECT_FALSE(plan_migration({0.6, 0.6, 0.7}, {0, 0, 1}, {true, true, true}, {0, 1}, 0.0).has_value());
+  EXPECT_FALSE(
+      plan_migration({0.6, 0.6, 0.7}, {0, 0, 1}, {true, true, true}, {0, 1}, 0.0).has_value());
 }
 
 TEST(TaskTable, RateMonotonicPrioritiesFromManifest) {
   const auto m = parse_manifest(R"pb(
-    name: "t"
-    process { name: "a" exec: "x"
-      task { name: "fast" kind: PERIODIC period_ms: 1 }
-      task { name: "slow" kind: PERIODIC period_ms: 100 }
-      task { name: "fixed" kind: PERIODIC period_ms: 50 priority: 10 }
-      task { name: "other" kind: PERIODIC period_ms: 5 policy: OTHER }
-      task { name: "trig" kind: TRIGGERED deadline_ms: 20 cpu: "1" }
-    })pb", "t");
+                                  name: "t"
+                                  process {
+                                    name: "a"
+                                    exec: "x"
+                                    task { name: "fast" kind: PERIODIC period_ms: 1 }
+                                    task { name: "slow" kind: PERIODIC period_ms: 100 }
+                                    task { name: "fixed" kind: PERIODIC period_ms: 50 priority: 10 }
+                                    task { name: "other" kind: PERIODIC period_ms: 5 policy: OTHER }
+                                    task { name: "trig" kind: TRIGGERED deadline_ms: 20 cpu: "1" }
+                                  })pb",
+                                "t");
   auto table = build_task_table(m, "");
   assign_rate_monotonic(table, 80);
   ASSERT_EQ(table.size(), 5u);

@@ -31,8 +31,8 @@ Scheduler::Scheduler(SchedulerConfig config, std::vector<TaskEntry> table,
   }
 }
 
-Scheduler::Row& Scheduler::row_for(const std::string& process, const std::string& task, bool periodic,
-                                   int64_t period_us, int64_t deadline_us) {
+Scheduler::Row& Scheduler::row_for(const std::string& process, const std::string& task,
+                                   bool periodic, int64_t period_us, int64_t deadline_us) {
   for (auto& r : rows_)
     if (r.entry.process == process && r.entry.task == task) return r;
   // Not in the manifest: schedule it politely (SCHED_OTHER, any CPU) and say so.
@@ -51,7 +51,8 @@ Scheduler::Row& Scheduler::row_for(const std::string& process, const std::string
   row.assignment.policy = Policy::kOther;
   row.assignment.generation = 1;
   rows_.push_back(std::move(row));
-  add_event("task " + process + "/" + task + " is not in the task table: running it under SCHED_OTHER on any CPU");
+  add_event("task " + process + "/" + task +
+            " is not in the task table: running it under SCHED_OTHER on any CPU");
   return rows_.back();
 }
 
@@ -59,8 +60,8 @@ void Scheduler::on_register(const Registration& reg, int64_t now_us) {
   Row& row = row_for(reg.process, reg.task, reg.periodic, reg.period_us, reg.deadline_us);
   if (!row.registered || row.reg.pid != reg.pid || row.reg.tid != reg.tid) {
     if (row.registered && row.reg.pid != reg.pid) {
-      add_event("task " + row.entry.key() + " restarted (pid " + std::to_string(row.reg.pid) + " -> " +
-                std::to_string(reg.pid) + ")");
+      add_event("task " + row.entry.key() + " restarted (pid " + std::to_string(row.reg.pid) +
+                " -> " + std::to_string(reg.pid) + ")");
       row.exec.clear();
       row.jitter.clear();
       row.demand.clear();
@@ -107,13 +108,15 @@ void Scheduler::on_jobs(const JobsReport& report, int64_t now_us) {
 double Scheduler::utilisation(const Row& row) const {
   if (row.demand.empty()) return row.entry.expected_utilisation;
   const double est_us = row.demand.max_of_newest(config_.estimate_window);
-  if (row.entry.periodic && row.assignment.period_us > 0) return est_us / static_cast<double>(row.assignment.period_us);
+  if (row.entry.periodic && row.assignment.period_us > 0)
+    return est_us / static_cast<double>(row.assignment.period_us);
   // Triggered: cost times the measured release rate.
   return est_us * 1e-6 * row.rate_hz;
 }
 
 std::vector<std::string> Scheduler::rebalance(int64_t now_us) {
-  const double window_s = last_rebalance_us_ > 0 ? static_cast<double>(now_us - last_rebalance_us_) * 1e-6 : 0.0;
+  const double window_s =
+      last_rebalance_us_ > 0 ? static_cast<double>(now_us - last_rebalance_us_) * 1e-6 : 0.0;
   last_rebalance_us_ = now_us;
   for (auto& r : rows_) {
     if (window_s > 0.0) r.rate_hz = static_cast<double>(r.jobs_in_window) / window_s;
@@ -138,8 +141,8 @@ std::vector<std::string> Scheduler::rebalance(int64_t now_us) {
     r.assignment.cpu = m->to_cpu;
     r.assignment.generation += 1;
     r.last_migrated_us = now_us;
-    std::string event = "migrating " + r.entry.key() + " from CPU " + std::to_string(m->from_cpu) + " to CPU " +
-                        std::to_string(m->to_cpu) + ": " + m->reason;
+    std::string event = "migrating " + r.entry.key() + " from CPU " + std::to_string(m->from_cpu) +
+                        " to CPU " + std::to_string(m->to_cpu) + ": " + m->reason;
     add_event(event);
     out.push_back(event);
   }
@@ -177,7 +180,8 @@ HostStatus Scheduler::status(int64_t now_us) const {
     ts.deadline_misses = r.misses;
     ts.utilisation = ts.alive ? utilisation(r) : 0.0;
     const bool wants_fifo = r.assignment.policy == Policy::kFifo;
-    ts.rt_granted = wants_fifo && r.rt_granted && (!ts.readback.ok || ts.readback.policy == Policy::kFifo);
+    ts.rt_granted =
+        wants_fifo && r.rt_granted && (!ts.readback.ok || ts.readback.policy == Policy::kFifo);
     ts.rt_error = r.rt_error;
     if (ts.alive && wants_fifo && !ts.rt_granted) hs.rt = false;
     const auto it = std::find(config_.cpus.begin(), config_.cpus.end(), r.assignment.cpu);
@@ -188,7 +192,8 @@ HostStatus Scheduler::status(int64_t now_us) const {
     }
     hs.tasks.push_back(std::move(ts));
   }
-  for (size_t c = 0; c < config_.cpus.size(); ++c) hs.cpu_bound.push_back(cpu_bound(count[c], config_.fixed_bound));
+  for (size_t c = 0; c < config_.cpus.size(); ++c)
+    hs.cpu_bound.push_back(cpu_bound(count[c], config_.fixed_bound));
   return hs;
 }
 

@@ -26,10 +26,10 @@
 namespace ephor::scheduler {
 
 struct SchedulerConfig {
-  std::vector<int> cpus;        // CPUs tasks may use
-  double fixed_bound = 0.0;     // 0 = Liu & Layland
-  size_t history = 1000;        // jobs kept for percentiles
-  size_t estimate_window = 3;   // newest jobs whose max is the execution estimate
+  std::vector<int> cpus;       // CPUs tasks may use
+  double fixed_bound = 0.0;    // 0 = Liu & Layland
+  size_t history = 1000;       // jobs kept for percentiles
+  size_t estimate_window = 3;  // newest jobs whose max is the execution estimate
   int fifo_priority_max = 80;
   bool migrate = true;
   int64_t migrate_holdoff_us = 5'000'000;  // a task is not moved again within this time
@@ -45,8 +45,8 @@ struct Registration {
 
 struct JobSample {
   int32_t start_latency_us = 0;
-  int32_t exec_us = 0;   // wall time from start to end
-  int32_t cpu_us = -1;   // CPU time of the job (its demand); -1 = unknown, use exec_us
+  int32_t exec_us = 0;  // wall time from start to end
+  int32_t cpu_us = -1;  // CPU time of the job (its demand); -1 = unknown, use exec_us
   bool deadline_met = true;
   int32_t skipped_releases = 0;
 };
@@ -71,17 +71,17 @@ struct Assignment {
 
 struct TaskStatus {
   Assignment assignment;
-  bool in_table = true;        // false: registered but not in the manifest
+  bool in_table = true;  // false: registered but not in the manifest
   bool registered = false;
   bool alive = false;
   int pid = 0, tid = 0;
   bool periodic = true;
-  SchedReadback readback;      // what the kernel says the thread runs with
-  double exec_p50 = 0, exec_p99 = 0, exec_max = 0;      // us
+  SchedReadback readback;                           // what the kernel says the thread runs with
+  double exec_p50 = 0, exec_p99 = 0, exec_max = 0;  // us
   double jitter_p50 = 0, jitter_p99 = 0, jitter_max = 0;  // us
   int64_t jobs = 0, deadline_misses = 0;
   double utilisation = 0;
-  bool rt_granted = false;     // FIFO asked for and in force
+  bool rt_granted = false;  // FIFO asked for and in force
   std::string rt_error;
 };
 
@@ -90,7 +90,7 @@ struct HostStatus {
   std::vector<double> cpu_utilisation;
   std::vector<double> cpu_bound;
   std::vector<TaskStatus> tasks;
-  bool rt = true;              // every live task that asked for SCHED_FIFO has it
+  bool rt = true;  // every live task that asked for SCHED_FIFO has it
 };
 
 class Scheduler {
@@ -128,7 +128,7 @@ class Scheduler {
     RollingStats demand;  // CPU time per job: what utilisation is estimated from
     int64_t jobs = 0;
     int64_t misses = 0;
-    int64_t jobs_in_window = 0;   // jobs since the last rebalance (rate of triggered tasks)
+    int64_t jobs_in_window = 0;  // jobs since the last rebalance (rate of triggered tasks)
     double rate_hz = 0.0;
     bool rt_granted = false;
     bool refusal_reported = false;
@@ -137,8 +137,8 @@ class Scheduler {
         : entry(std::move(e)), exec(history), jitter(history), demand(history) {}
   };
 
-  Row& row_for(const std::string& process, const std::string& task, bool periodic, int64_t period_us,
-               int64_t deadline_us);
+  Row& row_for(const std::string& process, const std::string& task, bool periodic,
+               int64_t period_us, int64_t deadline_us);
   double utilisation(const Row& row) const;
   void add_event(std::string event);
 

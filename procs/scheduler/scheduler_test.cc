@@ -22,7 +22,8 @@ SchedReadback fake_readback(pid_t) {
   return rb;
 }
 
-JobsReport jobs(const std::string& task, int exec_us, int n, int32_t generation = 1, bool rt = true) {
+JobsReport jobs(const std::string& task, int exec_us, int n, int32_t generation = 1,
+                bool rt = true) {
   JobsReport r;
   r.process = "p";
   r.task = task;
@@ -52,7 +53,8 @@ SchedulerConfig two_cpus() {
 }
 
 TEST(Scheduler, InitialAssignmentIsRateMonotonicAndFirstFit) {
-  Scheduler s(two_cpus(), {periodic("slow", 100'000), periodic("fast", 1'000), periodic("pinned", 10'000, 1)});
+  Scheduler s(two_cpus(),
+              {periodic("slow", 100'000), periodic("fast", 1'000), periodic("pinned", 10'000, 1)});
   const auto a = s.assignments();
   ASSERT_EQ(a.size(), 3u);
   EXPECT_EQ(a[1].priority, 80);  // fastest

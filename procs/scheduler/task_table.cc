@@ -41,10 +41,13 @@ void assign_rate_monotonic(std::vector<TaskEntry>& table, int max_priority) {
   std::sort(spans.begin(), spans.end());
   spans.erase(std::unique(spans.begin(), spans.end()), spans.end());
   std::map<int64_t, int> prio;
-  for (size_t i = 0; i < spans.size(); ++i) prio[spans[i]] = std::max(1, max_priority - static_cast<int>(i));
+  for (size_t i = 0; i < spans.size(); ++i)
+    prio[spans[i]] = std::max(1, max_priority - static_cast<int>(i));
   for (auto& e : table) {
-    if (!e.fifo) e.priority = 0;
-    else if (!e.explicit_priority) e.priority = prio[span(e)];
+    if (!e.fifo)
+      e.priority = 0;
+    else if (!e.explicit_priority)
+      e.priority = prio[span(e)];
   }
 }
 

@@ -14,12 +14,12 @@ struct TaskEntry {
   std::string process;
   std::string task;
   bool periodic = true;
-  int64_t period_us = 0;       // 0 for triggered tasks
-  int64_t deadline_us = 0;     // relative deadline
-  bool fifo = true;            // SCHED_FIFO wanted (else SCHED_OTHER)
-  int priority = 0;            // SCHED_FIFO priority; filled by assign_rate_monotonic()
+  int64_t period_us = 0;    // 0 for triggered tasks
+  int64_t deadline_us = 0;  // relative deadline
+  bool fifo = true;         // SCHED_FIFO wanted (else SCHED_OTHER)
+  int priority = 0;         // SCHED_FIFO priority; filled by assign_rate_monotonic()
   bool explicit_priority = false;
-  int cpu = -1;                // pinned CPU, -1 = auto
+  int cpu = -1;                       // pinned CPU, -1 = auto
   double expected_utilisation = 0.0;  // expected_exec / period before measurements
 
   std::string key() const { return process + "/" + task; }

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include "common/lcm/bus.h"
 #include "common/log/log.h"
@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
   ephor::add_process_flags(app, args, "testtask");
   std::vector<std::string> specs;
   double duration_s = 0.0;
-  app.add_option("--task", specs, "periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US]")->required();
+  app.add_option("--task", specs, "periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US]")
+      ->required();
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
@@ -58,7 +59,8 @@ int main(int argc, char** argv) {
       if (f.size() >= 3 && f[0] == "periodic") {
         const double period_ms = std::stod(f[2]);
         const int64_t exec_us = f.size() > 3 ? std::stoll(f[3]) : 0;
-        if (!(period_ms > 0.0) || exec_us < 0) throw std::invalid_argument("bad task spec '" + spec + "'");
+        if (!(period_ms > 0.0) || exec_us < 0)
+          throw std::invalid_argument("bad task spec '" + spec + "'");
         runtime.add_periodic(f[1], std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6)),
                              [exec_us] { burn_us(exec_us); });
       } else if (f.size() >= 2 && f[0] == "triggered") {
@@ -66,8 +68,9 @@ int main(int argc, char** argv) {
         if (exec_us < 0) throw std::invalid_argument("bad task spec '" + spec + "'");
         runtime.add_triggered(f[1], std::chrono::seconds(1), [exec_us] { burn_us(exec_us); });
       } else {
-        throw std::invalid_argument("bad task spec '" + spec +
-                                    "' (want periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US])");
+        throw std::invalid_argument(
+            "bad task spec '" + spec +
+            "' (want periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US])");
       }
     }
     runtime.start();

@@ -227,8 +227,9 @@ int main(int argc, char** argv) {
                  "threshold position between field and mark peaks (0..1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   double phase_lag_ms = 1.0;
-  app.add_option("--phase-lag-ms", phase_lag_ms,
-                 "release the periodic task this long after each frame arrives (< 0: free-running phase)");
+  app.add_option(
+      "--phase-lag-ms", phase_lag_ms,
+      "release the periodic task this long after each frame arrives (< 0: free-running phase)");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
 

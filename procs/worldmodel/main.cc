@@ -173,8 +173,7 @@ int main(int argc, char** argv) {
   ephor::init_logging(args.name);
 
   try {
-    if (calibration_path.empty())
-      calibration_path = ephor::default_calibration_path();
+    if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);
     spdlog::info("calibration {} ({})", calibration_path, calibration.source());
     WorldModel wm(std::move(calibration), config);

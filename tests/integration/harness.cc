@@ -23,13 +23,15 @@ bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds tim
 
 std::string bin(const std::string& name) {
   const char* dir = std::getenv("EPHOR_BIN_DIR");
-  if (dir == nullptr) throw std::runtime_error("EPHOR_BIN_DIR is not set (run the test through ctest)");
+  if (dir == nullptr)
+    throw std::runtime_error("EPHOR_BIN_DIR is not set (run the test through ctest)");
   return std::string(dir) + "/" + name;
 }
 
 std::string source_path(const std::string& relative) {
   const char* dir = std::getenv("EPHOR_SOURCE_DIR");
-  if (dir == nullptr) throw std::runtime_error("EPHOR_SOURCE_DIR is not set (run the test through ctest)");
+  if (dir == nullptr)
+    throw std::runtime_error("EPHOR_SOURCE_DIR is not set (run the test through ctest)");
   return std::string(dir) + "/" + relative;
 }
 
@@ -46,11 +48,12 @@ std::string write_temp_file(const std::string& name, const std::string& text) {
 }
 
 Processes::Processes() {
-  group_ = std::make_unique<launcher::ProcessGroup>([this](const std::string& name, const std::string& line) {
-    // Called from poller_ with mutex_ held.
-    lines_[name].push_back(line);
-    std::fprintf(stderr, "[%s] %s\n", name.c_str(), line.c_str());
-  });
+  group_ = std::make_unique<launcher::ProcessGroup>(
+      [this](const std::string& name, const std::string& line) {
+        // Called from poller_ with mutex_ held.
+        lines_[name].push_back(line);
+        std::fprintf(stderr, "[%s] %s\n", name.c_str(), line.c_str());
+      });
   poller_ = std::thread([this] {
     while (true) {
       {
@@ -66,7 +69,8 @@ Processes::Processes() {
 
 Processes::~Processes() { stop_all(); }
 
-void Processes::start(const std::string& name, const std::string& exec, const std::vector<std::string>& args,
+void Processes::start(const std::string& name, const std::string& exec,
+                      const std::vector<std::string>& args,
                       const std::vector<std::pair<std::string, std::string>>& env) {
   std::lock_guard<std::mutex> lock(mutex_);
   pids_[name] = group_->start({name, exec, args, env, false});

@@ -22,13 +22,13 @@ constexpr const char* kManifest = R"pb(
     exec: "ephor-testtask"
     # No task-table row: the scheduler leaves the task its own period, so
     # the period in its log line is the parameter's value.
-    args: ["--task", "periodic:tick:${period}:10"]
+    args: [ "--task", "periodic:tick:${period}:10" ]
   }
   process {
     name: "ui"
     exec: "ephor-testtask"
     gui: true
-    args: ["--task", "periodic:draw:100"]
+    args: [ "--task", "periodic:draw:100" ]
   }
 )pb";
 
@@ -46,10 +46,10 @@ TEST(Launcher, RunsAManifestForADurationAndStopsCleanly) {
   const auto e = exit_of(p, "launch");
   EXPECT_FALSE(e->signaled);
   EXPECT_EQ(e->code, 0);
-  EXPECT_TRUE(p.has_line("launch", "[ticker   ]"));         // output prefixed by process name
-  EXPECT_TRUE(p.has_line("launch", "period 4000 us"));      // the parameter reached the process
+  EXPECT_TRUE(p.has_line("launch", "[ticker   ]"));     // output prefixed by process name
+  EXPECT_TRUE(p.has_line("launch", "period 4000 us"));  // the parameter reached the process
   EXPECT_TRUE(p.has_line("launch", "started scheduler"));
-  EXPECT_FALSE(p.has_line("launch", "started ui"));         // --headless skips gui processes
+  EXPECT_FALSE(p.has_line("launch", "started ui"));  // --headless skips gui processes
   EXPECT_TRUE(p.has_line("launch", "all stopped"));
 }
 
@@ -71,15 +71,24 @@ TEST(Launcher, CtrlCStopsEverything) {
 TEST(Launcher, ExitsNonZeroNamingAProcessThatDies) {
   const std::string m = write_temp_file("dies.pbtxt", R"pb(
     name: "dies"
-    process { name: "ticker" exec: "ephor-testtask" args: ["--task", "periodic:tick:5"] }
-    process { name: "doomed" exec: "ephor-testtask" args: ["--task", "bogus-spec"] }
+    process {
+      name: "ticker"
+      exec: "ephor-testtask"
+      args: [ "--task", "periodic:tick:5" ]
+    }
+    process {
+      name: "doomed"
+      exec: "ephor-testtask"
+      args: [ "--task", "bogus-spec" ]
+    }
   )pb");
   Processes p;
   p.start("launch", bin("ephor-launch"), {m, "--duration", "30"});
   ASSERT_TRUE(wait_until([&] { return exit_of(p, "launch").has_value(); }, seconds(20)));
   EXPECT_EQ(exit_of(p, "launch")->code, 1);
   EXPECT_TRUE(p.has_line("launch", "process doomed died unexpectedly: exited with status 1"));
-  EXPECT_TRUE(p.has_line("launch", "bad task spec 'bogus-spec'"));  // the process's own reason, prefixed
+  EXPECT_TRUE(
+      p.has_line("launch", "bad task spec 'bogus-spec'"));  // the process's own reason, prefixed
 }
 
 TEST(Launcher, ExitsNonZeroNamingAProcessThatCannotStart) {
@@ -95,7 +104,8 @@ TEST(Launcher, ExitsNonZeroNamingAProcessThatCannotStart) {
 }
 
 TEST(Launcher, BadManifestAndBadOptionsAreRefusedWithReasons) {
-  const std::string bad = write_temp_file("bad.pbtxt", "name: \"x\"\nprocess { name: \"a\" exek: \"b\" }\n");
+  const std::string bad =
+      write_temp_file("bad.pbtxt", "name: \"x\"\nprocess { name: \"a\" exek: \"b\" }\n");
   const std::string good = write_temp_file("good.pbtxt", kManifest);
   Processes p;
   p.start("bad", bin("ephor-launch"), {bad});

@@ -84,7 +84,8 @@ class SchedulerIntegration : public ::testing::Test {
  protected:
   void start_scheduler(const std::string& manifest_text) {
     const std::string path = write_temp_file(
-        ::testing::UnitTest::GetInstance()->current_test_info()->name() + std::string(".pbtxt"), manifest_text);
+        ::testing::UnitTest::GetInstance()->current_test_info()->name() + std::string(".pbtxt"),
+        manifest_text);
     procs.start("scheduler", bin("ephor-scheduler"), {"--manifest", path, "--print-every", "0"},
                 env_for("scheduler"));
   }
@@ -132,24 +133,31 @@ TEST_F(SchedulerIntegration, EachTaskRunsOnItsAssignedCpuAndPolicy) {
   start_tasks("alpha", {"periodic:fast:2:100", "periodic:slow:50:500"});
   start_tasks("beta", {"triggered:save:100", "periodic:log:100:10"});
 
-  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/fast"), 1, Policy::kFifo); }, seconds(10)));
-  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/slow"), 0, Policy::kFifo); }, seconds(10)));
-  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("beta/save"), 0, Policy::kFifo); }, seconds(10)));
-  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("beta/log"), 1, Policy::kOther); }, seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/fast"), 1, Policy::kFifo); },
+                         seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/slow"), 0, Policy::kFifo); },
+                         seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("beta/save"), 0, Policy::kFifo); },
+                         seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("beta/log"), 1, Policy::kOther); },
+                         seconds(10)));
   // Rate-monotonic priority for the 2 ms task (highest), explicit 20 for "slow".
   EXPECT_EQ(read_thread_sched(probe.tid("alpha/fast")).priority, 80);
   EXPECT_EQ(read_thread_sched(probe.tid("alpha/slow")).priority, 20);
 
   // The scheduler's status agrees and says real-time scheduling was granted.
-  EXPECT_TRUE(wait_until([&] {
-    auto s = probe.status_of("alpha/fast");
-    return s && s->alive && s->rt_granted && s->cpu == 1 && s->policy == "SCHED_FIFO" && s->jobs > 100;
-  }, seconds(10)));
+  EXPECT_TRUE(wait_until(
+      [&] {
+        auto s = probe.status_of("alpha/fast");
+        return s && s->alive && s->rt_granted && s->cpu == 1 && s->policy == "SCHED_FIFO" &&
+               s->jobs > 100;
+      },
+      seconds(10)));
   EXPECT_TRUE(wait_until([&] { return probe.status().rt; }, seconds(5)));
   auto fast = probe.status_of("alpha/fast");
   ASSERT_TRUE(fast.has_value());
   EXPECT_EQ(fast->period_us, 2000);
-  EXPECT_GT(fast->exec_p50_us, 50.0f);   // the task burns 100 us per job
+  EXPECT_GT(fast->exec_p50_us, 50.0f);  // the task burns 100 us per job
   EXPECT_LT(fast->exec_p50_us, 2000.0f);
 }
 
@@ -164,7 +172,8 @@ TEST_F(SchedulerIntegration, TriggeredTaskRunsOncePerTrigger) {
     t.task = "save";
     probe.bus().publish(channels::kTaskTrigger, t);
     // One job per trigger: wait for it before sending the next.
-    ASSERT_TRUE(wait_until([&] { return probe.jobs("beta/save") == i; }, seconds(5))) << "trigger " << i;
+    ASSERT_TRUE(wait_until([&] { return probe.jobs("beta/save") == i; }, seconds(5)))
+        << "trigger " << i;
   }
   // A trigger for another process's task is not ours.
   task_trigger_t other{};
@@ -195,19 +204,28 @@ TEST_F(SchedulerIntegration, OverloadedCpuMigratesATaskAtRunTime) {
     }
   )pb");
   start_tasks("gamma", {"periodic:a:10:4500", "periodic:b:10:4500"});
-  ASSERT_TRUE(wait_until([&] {
-    return thread_has(probe.tid("gamma/a"), 0, Policy::kOther) && thread_has(probe.tid("gamma/b"), 0, Policy::kOther);
-  }, seconds(10)));
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return thread_has(probe.tid("gamma/a"), 0, Policy::kOther) &&
+               thread_has(probe.tid("gamma/b"), 0, Policy::kOther);
+      },
+      seconds(10)));
   // The scheduler notices the overload and moves one of them to CPU 1.
-  EXPECT_TRUE(wait_until([&] {
-    return thread_has(probe.tid("gamma/a"), 1, Policy::kOther) || thread_has(probe.tid("gamma/b"), 1, Policy::kOther);
-  }, seconds(15)));
-  EXPECT_TRUE(wait_until([&] { return procs.has_line("scheduler", "migrating gamma/"); }, seconds(5)));
-  EXPECT_TRUE(wait_until([&] {
-    for (const auto& e : probe.status().events)
-      if (e.find("migrating gamma/") != std::string::npos) return true;
-    return false;
-  }, seconds(5)));
+  EXPECT_TRUE(wait_until(
+      [&] {
+        return thread_has(probe.tid("gamma/a"), 1, Policy::kOther) ||
+               thread_has(probe.tid("gamma/b"), 1, Policy::kOther);
+      },
+      seconds(15)));
+  EXPECT_TRUE(
+      wait_until([&] { return procs.has_line("scheduler", "migrating gamma/"); }, seconds(5)));
+  EXPECT_TRUE(wait_until(
+      [&] {
+        for (const auto& e : probe.status().events)
+          if (e.find("migrating gamma/") != std::string::npos) return true;
+        return false;
+      },
+      seconds(5)));
 }
 
 TEST_F(SchedulerIntegration, RefusedFifoFallsBackWithWarningAndRtFalse) {
@@ -216,19 +234,25 @@ TEST_F(SchedulerIntegration, RefusedFifoFallsBackWithWarningAndRtFalse) {
   // now fails with EPERM, as for an unprivileged user or in a container.
   start_tasks("alpha", {"periodic:fast:2:100", "periodic:slow:50:500"},
               "exec setpriv --inh-caps=-sys_nice --bounding-set=-sys_nice prlimit --rtprio=0 --");
-  EXPECT_TRUE(wait_until([&] { return procs.has_line("alpha", "SCHED_FIFO refused"); }, seconds(10)));
-  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/fast"), 1, Policy::kOther); }, seconds(10)));
+  EXPECT_TRUE(
+      wait_until([&] { return procs.has_line("alpha", "SCHED_FIFO refused"); }, seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return thread_has(probe.tid("alpha/fast"), 1, Policy::kOther); },
+                         seconds(10)));
   // The process keeps running its jobs under SCHED_OTHER...
   EXPECT_TRUE(wait_until([&] { return probe.jobs("alpha/fast") > 200; }, seconds(10)));
   // ...warns once, and the scheduler reports rt=false.
   int warnings = 0;
-  for (const auto& l : procs.lines("alpha")) warnings += l.find("SCHED_FIFO refused") != std::string::npos;
+  for (const auto& l : procs.lines("alpha"))
+    warnings += l.find("SCHED_FIFO refused") != std::string::npos;
   EXPECT_EQ(warnings, 1);
-  EXPECT_TRUE(wait_until([&] {
-    auto s = probe.status_of("alpha/fast");
-    return s && s->alive && !s->rt_granted && s->policy == "SCHED_OTHER" && !probe.status().rt;
-  }, seconds(10)));
-  EXPECT_TRUE(wait_until([&] { return procs.has_line("scheduler", "SCHED_FIFO was refused"); }, seconds(5)));
+  EXPECT_TRUE(wait_until(
+      [&] {
+        auto s = probe.status_of("alpha/fast");
+        return s && s->alive && !s->rt_granted && s->policy == "SCHED_OTHER" && !probe.status().rt;
+      },
+      seconds(10)));
+  EXPECT_TRUE(wait_until([&] { return procs.has_line("scheduler", "SCHED_FIFO was refused"); },
+                         seconds(5)));
   for (const auto& e : procs.exits()) ADD_FAILURE() << e.name << " " << e.describe();
 }
 

@@ -42,7 +42,8 @@ struct Result {
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
+  const size_t k =
+      std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
   std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
   return v[k];
 }
@@ -64,14 +65,15 @@ void stop_hog(pid_t pid) {
   waitpid(pid, nullptr, 0);
 }
 
-Result measure(const std::string& name, bool fifo, bool hog, int cpu, int priority, double duration_s,
-               int64_t period_ns) {
+Result measure(const std::string& name, bool fifo, bool hog, int cpu, int priority,
+               double duration_s, int64_t period_ns) {
   Result r;
   r.name = name;
   r.fifo = fifo;
   r.hog = hog;
   const pid_t hog_pid = hog ? start_hog(cpu) : -1;
-  const SchedOutcome out = apply_to_calling_thread({cpu, fifo ? Policy::kFifo : Policy::kOther, priority});
+  const SchedOutcome out =
+      apply_to_calling_thread({cpu, fifo ? Policy::kFifo : Policy::kOther, priority});
   r.rt_granted = !fifo || out.policy_ok;
   const int64_t n = static_cast<int64_t>(duration_s * 1e9 / static_cast<double>(period_ns));
   std::vector<double> latency;
@@ -94,15 +96,16 @@ Result measure(const std::string& name, bool fifo, bool hog, int cpu, int priori
 
 // Runs cyclictest with the same interval, priority, CPU and duration; reads
 // its histogram (1 us buckets up to 10 ms) for p50/p99 and its max.
-Result cyclictest(const std::string& name, bool hog, int cpu, int priority, double duration_s, int64_t period_ns) {
+Result cyclictest(const std::string& name, bool hog, int cpu, int priority, double duration_s,
+                  int64_t period_ns) {
   Result r;
   r.name = name;
   r.fifo = true;
   r.hog = hog;
   const pid_t hog_pid = hog ? start_hog(cpu) : -1;
   std::ostringstream cmd;
-  cmd << "cyclictest -m -q -t1 -a " << cpu << " -p " << priority << " -i " << period_ns / 1000 << " -D "
-      << static_cast<int>(duration_s) << " -h 10000 2>&1";
+  cmd << "cyclictest -m -q -t1 -a " << cpu << " -p " << priority << " -i " << period_ns / 1000
+      << " -D " << static_cast<int>(duration_s) << " -h 10000 2>&1";
   FILE* p = popen(cmd.str().c_str(), "r");
   std::vector<std::pair<int, int64_t>> hist;
   char line[512];
@@ -140,9 +143,10 @@ Result cyclictest(const std::string& name, bool hog, int cpu, int priority, doub
 }
 
 nlohmann::json to_json(const Result& r) {
-  return {{"name", r.name}, {"policy", r.fifo ? "SCHED_FIFO" : "SCHED_OTHER"}, {"hog", r.hog},
-          {"rt_granted", r.rt_granted}, {"p50_us", r.p50}, {"p99_us", r.p99}, {"max_us", r.max},
-          {"samples", r.samples}};
+  return {{"name", r.name},  {"policy", r.fifo ? "SCHED_FIFO" : "SCHED_OTHER"},
+          {"hog", r.hog},    {"rt_granted", r.rt_granted},
+          {"p50_us", r.p50}, {"p99_us", r.p99},
+          {"max_us", r.max}, {"samples", r.samples}};
 }
 
 }  // namespace
@@ -155,10 +159,13 @@ int main(int argc, char** argv) {
   int priority = 80;
   double period_us = 1000.0;
   app.add_option("--json", json_path, "write results as JSON here");
-  app.add_option("--duration", duration_s, "seconds per condition (>= 30 for the README figures)")->check(CLI::PositiveNumber);
-  app.add_option("--cpu", cpu, "CPU to measure on (the hog is pinned there too)")->check(CLI::NonNegativeNumber);
+  app.add_option("--duration", duration_s, "seconds per condition (>= 30 for the README figures)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--cpu", cpu, "CPU to measure on (the hog is pinned there too)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--priority", priority, "SCHED_FIFO priority")->check(CLI::Range(1, 99));
-  app.add_option("--period-us", period_us, "release period, us (1000 = 1 kHz)")->check(CLI::PositiveNumber);
+  app.add_option("--period-us", period_us, "release period, us (1000 = 1 kHz)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   if (cpu >= online_cpus()) {
     std::fprintf(stderr, "--cpu %d: this machine has %d online CPUs\n", cpu, online_cpus());
@@ -168,12 +175,13 @@ int main(int argc, char** argv) {
   const std::string locked = lock_process_memory();
   if (!locked.empty()) std::fprintf(stderr, "warning: %s\n", locked.c_str());
 
-  std::printf("release jitter of a %.0f us periodic task on CPU %d, %.0f s per condition\n", period_us, cpu,
-              duration_s);
+  std::printf("release jitter of a %.0f us periodic task on CPU %d, %.0f s per condition\n",
+              period_us, cpu, duration_s);
   std::vector<Result> results;
   auto run = [&](Result r) {
-    std::printf("  %-26s p50 %7.1f  p99 %7.1f  max %8.1f us  (%lld samples%s)\n", r.name.c_str(), r.p50, r.p99,
-                r.max, static_cast<long long>(r.samples), r.rt_granted ? "" : ", SCHED_FIFO REFUSED");
+    std::printf("  %-26s p50 %7.1f  p99 %7.1f  max %8.1f us  (%lld samples%s)\n", r.name.c_str(),
+                r.p50, r.p99, r.max, static_cast<long long>(r.samples),
+                r.rt_granted ? "" : ", SCHED_FIFO REFUSED");
     std::fflush(stdout);
     results.push_back(r);
   };
@@ -189,9 +197,10 @@ int main(int argc, char** argv) {
   const double ratio = peer.max > 0 ? ours.max / peer.max : 0.0;
   const bool p99_ok = ours.p99 < 100.0;
   const bool max_ok = ratio > 0 && ratio <= 2.0;
-  std::printf("with the hog: SCHED_FIFO p99 %.1f us (target < 100: %s); max %.1f us vs cyclictest %.1f us, "
-              "ratio %.2f (target <= 2: %s)\n",
-              ours.p99, p99_ok ? "met" : "MISSED", ours.max, peer.max, ratio, max_ok ? "met" : "MISSED");
+  std::printf(
+      "with the hog: SCHED_FIFO p99 %.1f us (target < 100: %s); max %.1f us vs cyclictest %.1f us, "
+      "ratio %.2f (target <= 2: %s)\n",
+      ours.p99, p99_ok ? "met" : "MISSED", ours.max, peer.max, ratio, max_ok ? "met" : "MISSED");
 
   if (!json_path.empty()) {
     nlohmann::json j;
