@@ -19,6 +19,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -110,10 +111,20 @@ class PlanJob {
         scene.arm.y_mm = static_cast<double>(arm->y_mm);
         scene.arm.lowered = static_cast<double>(arm->z_mm) <
                             0.5 * (workcell_.elevation_plane_z_mm + workcell_.object_plane_z_mm);
+        // The joints count only when they put the tool where ARM_STATE says
+        // it is (a sender without joints leaves them zero).
         scene.arm.joints_known = true;
+        ephor::arm::Joints q;
         for (size_t i = 0; i < 6; ++i) {
           scene.arm.joints_rad[i] = arm->q[i];
+          q(static_cast<int>(i)) = arm->q[i];
           if (!std::isfinite(arm->q[i])) scene.arm.joints_known = false;
+        }
+        if (scene.arm.joints_known) {
+          const Eigen::Vector3d tip = ephor::arm::tool_in_field(workcell_, q).tip_mm;
+          if (std::hypot(tip.x() - scene.arm.x_mm, tip.y() - scene.arm.y_mm) > 20.0) {
+            scene.arm.joints_known = false;
+          }
         }
       } else {
         ++bad_arm_states_;
