@@ -21,8 +21,12 @@ std::optional<Intercept> MultiSheepPlanner::intercept_for(const ArmModel& arm, c
       const double extra = switch_time_s(arm, ic->x_mm, ic->y_mm);
       if (extra > 0.0) {
         switching = extra >= arm.configuration_switch_s;
-        ic = InterceptSolver::solve(arm, sheep, lead, lowering_delay_s(arm) + extra,
-                                    rules().centre_x_mm(), rules().centre_y_mm());
+        const auto later = InterceptSolver::solve(arm, sheep, lead, lowering_delay_s(arm) + extra,
+                                                  rules().centre_x_mm(), rules().centre_y_mm());
+        // Only when the later intercept is still usable: the extra time is an
+        // estimate (a switch took 7.6-14 s), and holding while the sheep
+        // leaves loses it for sure (the one-sheep integration run did).
+        if (later && rules().intercept_in_field(*later, sheep)) ic = later;
       }
     }
     if (ic && rules().intercept_in_field(*ic, sheep)) break;
