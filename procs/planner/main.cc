@@ -32,6 +32,7 @@
 #include "ephor/motion_done_t.hpp"
 #include "ephor/object_t.hpp"
 #include "ephor/objects_t.hpp"
+#include "ephor/planner_cmd_t.hpp"
 #include "ephor/planner_status_t.hpp"
 #include "procs/planner/planner.h"
 
@@ -81,20 +82,24 @@ class PlanJob {
           planner::ArmModel arm_model, ephor::geometry::Workcell workcell,
           std::shared_ptr<ephor::Mailbox<ephor::objects_t>> objects,
           std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state,
-          std::shared_ptr<DoneQueue> done)
+          std::shared_ptr<ephor::Mailbox<ephor::planner_cmd_t>> planner_cmd,
+          std::shared_ptr<DoneQueue> done, planner::PlannerConfig config)
       : bus_(bus),
         planner_(std::move(p)),
+        config_(std::move(config)),
         calibration_(std::move(calibration)),
         arm_model_(arm_model),
         workcell_(workcell),
         objects_(std::move(objects)),
         arm_state_(std::move(arm_state)),
+        planner_cmd_(std::move(planner_cmd)),
         done_(std::move(done)) {}
 
   void operator()() {
     const int64_t start_ns = ephor::mono_ns();
+    apply_planner_cmd();
     for (const auto& [goal_id, ok] : done_->take()) {
-      if (!planner_->on_motion_done(goal_id, ok)) {
+      if (!planner_->on_motion_done(goal_id - goal_id_offset_, ok)) {
         spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", goal_id);
       } else if (!ok) {
         spdlog::debug("goal {} failed; replanning after a back-off", goal_id);
@@ -181,7 +186,7 @@ class PlanJob {
                                     goal.y_mm + 10.0 * std::sin(goal.theta_rad), plane);
     ephor::arm_goal_t msg{};
     msg.utime = ephor::wall_us();
-    msg.goal_id = goal.goal_id;
+    msg.goal_id = goal.goal_id + goal_id_offset_;
     msg.plane = goal.plane == planner::Plane::kObject ? ephor::arm_goal_t::PLANE_OBJECT
                                                       : ephor::arm_goal_t::PLANE_ELEVATION;
     msg.u = static_cast<float>(p.x());
@@ -194,8 +199,30 @@ class PlanJob {
     msg.target_object = goal.target;
     bus_.publish(ephor::channels::kArmGoal, msg);
     spdlog::info("goal {} {} plane ({:.0f}, {:.0f}) mm = ({:.1f}, {:.1f}) px, sheep {}",
-                 goal.goal_id, goal.plane == planner::Plane::kObject ? "object" : "elevation",
-                 goal.x_mm, goal.y_mm, p.x(), p.y(), goal.target);
+                 goal.goal_id + goal_id_offset_,
+                 goal.plane == planner::Plane::kObject ? "object" : "elevation", goal.x_mm,
+                 goal.y_mm, p.x(), p.y(), goal.target);
+  }
+
+  // PLANNER_CMD (from ephor-display): switch planners between jobs. The new
+  // planner starts with no goal outstanding; its goal ids are offset so a
+  // late motion_done for the old planner's goal can never match one of its own
+  // (comm queues the new goal behind a goal already sent, so the arm is never
+  // given two at once).
+  void apply_planner_cmd() {
+    const auto cmd = planner_cmd_->latest();
+    if (!cmd || cmd->header.utime == applied_cmd_utime_) return;
+    applied_cmd_utime_ = cmd->header.utime;
+    if (cmd->planner == planner_->kind()) return;
+    try {
+      auto next = planner::make_planner(cmd->planner, config_);
+      spdlog::info("planner switched from {} to {} (PLANNER_CMD from {})", planner_->kind(),
+                   cmd->planner, cmd->header.sender);
+      planner_ = std::move(next);
+      goal_id_offset_ += kGoalIdOffsetPerSwitch;
+    } catch (const std::invalid_argument& e) {
+      spdlog::warn("PLANNER_CMD from {} ignored: {}", cmd->header.sender, e.what());
+    }
   }
 
   void publish_status(const planner::PlannerStatus& st, int64_t source_utime, float planning_us) {
@@ -211,18 +238,24 @@ class PlanJob {
     msg.intercept_time_s = static_cast<float>(st.intercept_time_s);
     msg.num_candidates = st.num_candidates;
     msg.planning_us = planning_us;
-    msg.goal_id = st.goal_id;
+    msg.goal_id = st.goal_id + goal_id_offset_;
     bus_.publish(ephor::channels::kPlannerStatus, msg);
   }
 
   ephor::Bus& bus_;
+  static constexpr int64_t kGoalIdOffsetPerSwitch = 1'000'000'000;
+
   std::unique_ptr<planner::Planner> planner_;
+  planner::PlannerConfig config_;
   FieldCalibration calibration_;
   planner::ArmModel arm_model_;
   ephor::geometry::Workcell workcell_;
   std::shared_ptr<ephor::Mailbox<ephor::objects_t>> objects_;
   std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state_;
+  std::shared_ptr<ephor::Mailbox<ephor::planner_cmd_t>> planner_cmd_;
   std::shared_ptr<DoneQueue> done_;
+  int64_t goal_id_offset_ = 0;
+  int64_t applied_cmd_utime_ = -1;  // header.utime of the newest PLANNER_CMD looked at
   bool warned_no_arm_ = false;
   int64_t bad_objects_ = 0;
   int64_t bad_arm_states_ = 0;
@@ -274,10 +307,11 @@ int main(int argc, char** argv) {
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     auto objects = std::make_shared<ephor::Mailbox<ephor::objects_t>>();
     auto arm_state = bus.mailbox<ephor::arm_state_t>(ephor::channels::kArmState);
+    auto planner_cmd = bus.mailbox<ephor::planner_cmd_t>(ephor::channels::kPlannerCmd);
     auto done = std::make_shared<DoneQueue>();
-    auto job =
-        std::make_shared<PlanJob>(bus, planner::make_planner(kind, config), std::move(calibration),
-                                  arm_model, config.workcell, objects, arm_state, done);
+    auto job = std::make_shared<PlanJob>(bus, planner::make_planner(kind, config),
+                                         std::move(calibration), arm_model, config.workcell,
+                                         objects, arm_state, planner_cmd, done, config);
     runtime.add_triggered("plan", std::chrono::nanoseconds(static_cast<int64_t>(deadline_ms * 1e6)),
                           [job] { (*job)(); });
     bus.subscribe<ephor::objects_t>(ephor::channels::kObjects,
