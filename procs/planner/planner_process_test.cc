@@ -17,6 +17,7 @@
 #include "ephor/arm_state_t.hpp"
 #include "ephor/motion_done_t.hpp"
 #include "ephor/objects_t.hpp"
+#include "ephor/planner_cmd_t.hpp"
 #include "ephor/planner_status_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -143,6 +144,46 @@ TEST(PlannerProcess, SendsOneGoalAtATimeInImageCoordinates) {
   EXPECT_GT(second.goal_id, first.goal_id);
   EXPECT_EQ(static_cast<int>(second.plane), static_cast<int>(arm_goal_t::PLANE_OBJECT));
   EXPECT_EQ(second.target_object, 42);
+  EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
+}
+
+// The display's planner buttons: PLANNER_CMD switches the planner at run
+// time; an unknown kind is refused and the planner keeps running.
+TEST(PlannerProcess, SwitchesPlannerOnPlannerCmd) {
+  Probe probe;
+  Processes procs;
+  procs.start("planner", bin("ephor-planner"), {"--no-mlock", "--planner", "multi"},
+              {{"EPHOR_PROCESS", "planner"}, {"EPHOR_HOST", "testhost"}});
+  int64_t utime = 1'000'000;
+  const auto status_is = [&](const std::string& kind) {
+    auto m = objects(utime += 33'333, 400, 600);
+    probe.bus().publish(channels::kObjects, m);
+    const auto s = probe.status();
+    return s && s->planner == kind;
+  };
+  ASSERT_TRUE(wait_until([&] { return status_is("multi"); }, seconds(15)));
+
+  planner_cmd_t bad{};
+  bad.planner = "telepathy";
+  probe.bus().publish(channels::kPlannerCmd, bad);
+  planner_cmd_t cmd{};
+  cmd.planner = "lookahead";
+  ASSERT_TRUE(wait_until(
+      [&] {
+        probe.bus().publish(channels::kPlannerCmd, cmd);
+        return status_is("lookahead");
+      },
+      seconds(10)))
+      << "PLANNER_CMD did not switch the planner";
+  // Goals of the new planner never reuse an id the old one may have sent.
+  EXPECT_TRUE(wait_until(
+      [&] {
+        status_is("lookahead");  // keeps objects coming
+        const auto goals = probe.goals();
+        return !goals.empty() && goals.back().goal_id > 1'000'000;
+      },
+      seconds(10)))
+      << "no goal from the new planner with an id above the old planner's";
   EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
 }
 
