@@ -7,6 +7,12 @@
 //
 //   ephor-vision [--period-ms 33.333] [--k 4] [--mode blobify|trackify] [--scan full|axis]
 //                [--threshold -1] [--band-px 16] [--full-every 15] [--min-area 10]
+//                [--foreground bright|dark|motion] [--on-frame]
+//
+// --on-frame (deterministic replay, tools/ephor replay): the vision task is
+// a triggered task released once per received frame instead of a periodic
+// one, so every frame fed to it is searched (none is replaced in the mailbox
+// by a newer one as long as the feeder waits for each BLOBS).
 
 #include <chrono>
 #include <cstdint>
@@ -230,10 +236,24 @@ int main(int argc, char** argv) {
   app.add_option(
       "--phase-lag-ms", phase_lag_ms,
       "release the periodic task this long after each frame arrives (< 0: free-running phase)");
+  std::string foreground = "bright";
+  app.add_option("--foreground", foreground,
+                 "what an object is: bright on dark (the field), dark on bright, or motion "
+                 "(frame differencing)")
+      ->check(CLI::IsMember({"bright", "dark", "motion"}));
+  app.add_option("--background-rate", cfg.foreground.background_rate,
+                 "motion: weight of the newest frame in the reference (1 = previous frame)");
+  app.add_option("--motion-smooth-px", cfg.foreground.smooth_radius_px,
+                 "motion: box-filter half width over the difference, px");
+  bool on_frame = false;
+  app.add_flag("--on-frame", on_frame,
+               "one job per received frame (a triggered task; for deterministic replay) instead "
+               "of the periodic task");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
 
   try {
+    cfg.foreground.mode = ephor::vision::parse_foreground_mode(foreground);
     VisionSettings settings;
     settings.paused = paused;
     settings.mode = mode == "trackify" ? SearchMode::kTrackify : SearchMode::kBlobify;
@@ -246,10 +266,15 @@ int main(int argc, char** argv) {
     const int64_t lag_ns = static_cast<int64_t>(phase_lag_ms * 1e6);
     auto frames = std::make_shared<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>>();
     bus.subscribe<ephor::camera_frame_t>(
-        ephor::channels::kCamera, [frames, &runtime, lag_ns](const ephor::camera_frame_t& m) {
+        ephor::channels::kCamera,
+        [frames, &runtime, lag_ns, on_frame](const ephor::camera_frame_t& m) {
           // One copy out of LCM's decode buffer; the task then takes a pointer.
           const int64_t now = ephor::mono_ns();
           frames->put(std::make_shared<const ReceivedFrame>(ReceivedFrame{m, now}));
+          if (on_frame) {
+            runtime.trigger("vision");
+            return;
+          }
           // Keep the periodic task's phase locked just after frame arrival, so
           // a frame does not wait up to a whole period in the mailbox.
           if (lag_ns >= 0) runtime.align_release("vision", now + lag_ns);
@@ -257,12 +282,17 @@ int main(int argc, char** argv) {
     auto commands = bus.mailbox<ephor::vision_cmd_t>(ephor::channels::kVisionCmd);
 
     VisionTask task(bus, pipeline, frames, commands);
-    runtime.add_periodic("vision", std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6)),
-                         [&task] { task.run_job(); });
+    const auto period = std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6));
+    if (on_frame) {
+      runtime.add_triggered("vision", period, [&task] { task.run_job(); });
+    } else {
+      runtime.add_periodic("vision", period, [&task] { task.run_job(); });
+    }
     runtime.start();
-    spdlog::info("vision: {}; k {} px, period {:.3f} ms; {} -> {}", describe(settings),
-                 cfg.blobifier.sample_step, period_ms, ephor::channels::kCamera,
-                 ephor::channels::kBlobs);
+    spdlog::info("vision: {}; {} objects; k {} px, {} {:.3f} ms; {} -> {}", describe(settings),
+                 foreground, cfg.blobifier.sample_step,
+                 on_frame ? "one job per frame, deadline" : "period", period_ms,
+                 ephor::channels::kCamera, ephor::channels::kBlobs);
     ephor::wait_for_shutdown_signal(duration_s);
     runtime.stop();
   } catch (const std::exception& e) {

@@ -19,7 +19,10 @@ std::string check_settings(const VisionSettings& s) {
 }
 
 VisionPipeline::VisionPipeline(PipelineConfig config, VisionSettings settings)
-    : selector_(config.threshold), blobifier_(config.blobifier), trackifier_(config.trackifier) {
+    : foreground_(config.foreground),
+      selector_(config.threshold),
+      blobifier_(config.blobifier),
+      trackifier_(config.trackifier) {
   const std::string problem = apply(settings);
   if (!problem.empty()) throw std::invalid_argument("vision settings: " + problem);
   pick_pending_ = settings.threshold == kThresholdAuto;
@@ -60,6 +63,10 @@ FrameResult VisionPipeline::process(const ImageView& image) {
     out.error = problem;
     return out;
   }
+  return search(foreground_.apply(image), out);
+}
+
+FrameResult VisionPipeline::search(const ImageView& image, FrameResult& out) {
   if (pick_pending_) {
     last_choice_ = selector_.select(image);
     threshold_ = last_choice_.threshold;

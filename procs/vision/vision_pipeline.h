@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "procs/vision/blobifier.h"
+#include "procs/vision/foreground_image.h"
 #include "procs/vision/image_view.h"
 #include "procs/vision/threshold_selector.h"
 #include "procs/vision/trackifier.h"
@@ -42,6 +43,9 @@ struct VisionSettings {
 std::string check_settings(const VisionSettings& s);
 
 struct PipelineConfig {
+  // What "object" means before thresholding: bright marks (the paper's
+  // field), dark objects, or motion (ForegroundImage). Fixed for the run.
+  ForegroundConfig foreground;
   BlobifierConfig blobifier;
   TrackifierConfig trackifier;
   ThresholdSelectorConfig threshold;
@@ -75,7 +79,8 @@ class VisionPipeline {
   std::string apply(const VisionSettings& settings);
   const VisionSettings& settings() const { return settings_; }
 
-  // Searches one frame. Never throws for a bad image: returns kBadFrame.
+  // Searches one frame (its ForegroundImage). Never throws for a bad image:
+  // returns kBadFrame.
   FrameResult process(const ImageView& image);
 
   // Current threshold, -1 before the first frame in auto mode.
@@ -84,6 +89,9 @@ class VisionPipeline {
   const BlobifierStats& blobifier_stats() const { return blobifier_.stats(); }
 
  private:
+  FrameResult search(const ImageView& image, FrameResult& out);
+
+  ForegroundImage foreground_;
   ThresholdSelector selector_;
   Blobifier blobifier_;
   Trackifier trackifier_;
