@@ -358,8 +358,8 @@ int main(int argc, char** argv) {
     for (const auto& ch : plan.output_channels)
       counts += ", " + std::to_string(per_channel[ch]) + " " + ch;
     std::fprintf(stderr,
-                 "[replay] %s through %s: %lld of %lld %s frames fed (%lld skipped), %lld left "
-                 "to vision only (time not increasing); outputs%s; %lld timeouts%s%s\n",
+                 "[replay] %s through %s: %lld of %lld %s frames fed (%lld skipped), %lld with "
+                 "no OBJECTS expected (time not increasing); outputs%s; %lld timeouts%s%s\n",
                  log_path.c_str(), procs.c_str(), static_cast<long long>(fed),
                  static_cast<long long>(logged_frames), plan.frame_channel.c_str(),
                  static_cast<long long>(skipped), static_cast<long long>(ignored_by_worldmodel),
