@@ -1,7 +1,7 @@
 // ephor-launch: starts a deployment manifest on this machine.
 //
 //   ephor-launch deploy/shepherd.pbtxt [--duration S] [--host NAME] [--headless]
-//                [--arg PROCESS=ARG ...] [--PARAM VALUE ...]
+//                [--arg PROCESS=ARG ...] [--record FILE] [--PARAM VALUE ...]
 //
 // --PARAM VALUE sets a parameter the manifest declares (param { name: ... }),
 // e.g. --seed 7 --sheep 4 --summary out.json for deploy/shepherd.pbtxt.
@@ -12,6 +12,10 @@
 // after a grace time, newest first) on Ctrl-C, on SIGTERM or when --duration
 // has passed. Exits non-zero, naming the process, when one cannot start or
 // dies unexpectedly.
+//
+// --record FILE also runs Debian's lcm-logger (started first, so it is
+// stopped last and logs the others' final messages) on the same LCM URL:
+// every channel of the run goes to FILE (overwritten), for tools/ephor log.
 
 #include <signal.h>
 #include <unistd.h>
@@ -63,6 +67,7 @@ int main(int argc, char** argv) {
   int grace_ms = 3000;
   bool no_scheduler = false;
   bool headless = false;
+  std::string record_path;
   app.add_option("manifest", manifest_path,
                  "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")
       ->required();
@@ -77,6 +82,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-scheduler", no_scheduler,
                "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
   app.add_flag("--headless", headless, "do not start user-interface processes (gui: true)");
+  app.add_option("--record", record_path,
+                 "record every LCM channel of the run to FILE with lcm-logger");
   app.allow_extras();
   app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
   CLI11_PARSE(app, argc, argv);
@@ -159,6 +166,22 @@ int main(int argc, char** argv) {
         {"EPHOR_LAUNCHED", "1"},          {"EPHOR_PROCESS", name},    {"EPHOR_HOST", host},
         {"EPHOR_MANIFEST", abs_manifest}, {"EPHOR_BIN_DIR", bin_dir}, {"LCM_DEFAULT_URL", url}};
   };
+  if (!record_path.empty()) {
+    // lcm-logger 1.3.1 ignores -l: the URL goes in --lcm-url=.
+    const std::string logger = resolve_executable("lcm-logger", bin_dir);
+    if (logger.empty()) {
+      std::fprintf(stderr,
+                   "[launch] --record: lcm-logger not found in $PATH (Debian package liblcm-bin; "
+                   "run tools/ephor setup)\n");
+      return 1;
+    }
+    const std::string abs_record = std::filesystem::absolute(record_path).string();
+    specs.push_back({"logger",
+                     logger,
+                     {"--lcm-url=" + url, "-f", abs_record},
+                     base_env("logger", only_host.empty() ? "" : only_host),
+                     false});
+  }
   if (!no_scheduler) {
     for (const auto& host : hosts) {
       const std::string name = hosts.size() == 1 ? "scheduler" : "scheduler@" + host;

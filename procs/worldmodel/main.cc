@@ -77,6 +77,10 @@ ephor::objects_t to_message(const WorldModel& wm, int64_t frame_index) {
     m.vy_mm_s = static_cast<float>(o.velocity_mm_s.y());
     m.since_seen_s = static_cast<float>(o.since_seen_s);
     m.area = o.area_px;
+    m.vu_raw_px_s = static_cast<float>(o.velocity_raw_px_s.x());
+    m.vv_raw_px_s = static_cast<float>(o.velocity_raw_px_s.y());
+    m.vu_first_px_s = static_cast<float>(o.velocity_first_px_s.x());
+    m.vv_first_px_s = static_cast<float>(o.velocity_first_px_s.y());
     msg.objects.push_back(m);
   }
   msg.num_objects = static_cast<int32_t>(msg.objects.size());

@@ -43,6 +43,11 @@ Eigen::Vector2d WorldModel::dead_reckoned(const Track& t) const {
 }
 
 void WorldModel::see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire) {
+  if (t.measured && now_s_ > t.last_z_s)
+    t.raw_velocity_px_s = (z - t.last_z_px) / (now_s_ - t.last_z_s);
+  t.measured = true;
+  t.last_z_px = z;
+  t.last_z_s = now_s_;
   if (reacquire) {
     // Hidden for a while: the residual to the dead-reckoned position says
     // little about velocity. Keep the velocity; the manoeuvre gate catches a
@@ -259,6 +264,8 @@ std::vector<ObjectEstimate> WorldModel::objects() const {
     e.position_mm = mark_map_ * t.estimate_px.homogeneous();
     e.velocity_px_s = t.filter.velocity();
     e.velocity_mm_s = linear * e.velocity_px_s;
+    e.velocity_raw_px_s = t.raw_velocity_px_s;
+    e.velocity_first_px_s = t.filter.first().velocity();
     e.since_seen_s = t.state == ObjectState::kVisible ? 0.0 : now_s_ - t.seen_s;
     e.area_px = t.area_px;
     out.push_back(e);

@@ -62,8 +62,13 @@ struct ObjectEstimate {
   Eigen::Vector2d position_mm{0.0, 0.0};    // F, at the mark height
   Eigen::Vector2d velocity_px_s{0.0, 0.0};  // second alpha-beta filter
   Eigen::Vector2d velocity_mm_s{0.0, 0.0};  // F
-  double since_seen_s = 0.0;                // 0 while visible
-  int area_px = 0;                          // of the last associated blob
+  // The filter's stages, px/s (paper 003 figures 17-20): the raw velocity
+  // (difference of the last two measurements over their interval; 0 before
+  // two) and the first filter's.
+  Eigen::Vector2d velocity_raw_px_s{0.0, 0.0};
+  Eigen::Vector2d velocity_first_px_s{0.0, 0.0};
+  double since_seen_s = 0.0;  // 0 while visible
+  int area_px = 0;            // of the last associated blob
 };
 
 struct WorldModelConfig {
@@ -137,7 +142,11 @@ class WorldModel {
     double seen_s = 0.0;  // frame time when last seen
     double dead_s = 0.0;  // frame time of death
     int area_px = 0;
-    double usual_area_px = 0.0;  // follows rises at once, falls slowly
+    double usual_area_px = 0.0;           // follows rises at once, falls slowly
+    bool measured = false;                // last_z_px / last_z_s are set
+    Eigen::Vector2d last_z_px{0.0, 0.0};  // last measured (unfiltered) position
+    double last_z_s = 0.0;
+    Eigen::Vector2d raw_velocity_px_s{0.0, 0.0};
   };
 
   void stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>& blobs,
