@@ -167,7 +167,8 @@ int main(int argc, char** argv) {
         {"EPHOR_MANIFEST", abs_manifest}, {"EPHOR_BIN_DIR", bin_dir}, {"LCM_DEFAULT_URL", url}};
   };
   if (!record_path.empty()) {
-    // lcm-logger 1.3.1 ignores -l: the URL goes in --lcm-url=.
+    // lcm-logger 1.3.1 ignores -l: the URL goes in --lcm-url=. -q: errors
+    // only, not a status line per second among the processes' output.
     const std::string logger = resolve_executable("lcm-logger", bin_dir);
     if (logger.empty()) {
       std::fprintf(stderr,
@@ -178,7 +179,7 @@ int main(int argc, char** argv) {
     const std::string abs_record = std::filesystem::absolute(record_path).string();
     specs.push_back({"logger",
                      logger,
-                     {"--lcm-url=" + url, "-f", abs_record},
+                     {"--lcm-url=" + url, "-q", "-f", abs_record},
                      base_env("logger", only_host.empty() ? "" : only_host),
                      false});
   }

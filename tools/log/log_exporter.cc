@@ -15,6 +15,9 @@ namespace {
 
 constexpr size_t kMaxErrorsKept = 5;
 constexpr int kMaxExpandedFixedArray = 16;  // larger fixed arrays go into one cell
+// LCM publishes one message of its own here when a process opens the bus
+// (liblcm's self test); it is no type of ours and not worth an error.
+constexpr const char* kLcmSelfTest = "LCM_SELF_TEST";
 
 // One CSV column: where its value is in the decoded message.
 struct Column {
@@ -159,7 +162,7 @@ ExportStats LogExporter::run(const std::string& log_path, std::ostream& out) con
   std::unique_ptr<CsvLayout> layout;
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     ++stats.events;
-    if (!std::regex_match(e->channel, channels)) continue;
+    if (!std::regex_match(e->channel, channels) || e->channel == kLcmSelfTest) continue;
     DecodedMessage msg;
     try {
       msg = decoder.decode(e->data, static_cast<size_t>(e->datalen));
@@ -211,6 +214,10 @@ std::vector<ChannelSummary> summarize_log(const LcmSchema& schema, const std::st
     ++s.count;
     s.bytes += e->datalen;
     s.last_utime_us = e->timestamp;
+    if (e->channel == kLcmSelfTest) {
+      s.type = "(liblcm self test)";
+      continue;
+    }
     DecodedMessage msg;
     try {
       msg = decoder.decode(e->data, static_cast<size_t>(e->datalen));

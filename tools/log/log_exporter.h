@@ -16,7 +16,8 @@
 //
 // LogSummary: per channel, the message count, type, size and rate, and, for
 // types carrying header_t, the gaps in each sender's sequence numbers: the
-// messages the logger did not receive (dropped on the way).
+// messages the logger did not receive (dropped on the way). liblcm's own
+// LCM_SELF_TEST messages are listed but not decoded, and never exported.
 
 #include <cstdint>
 #include <map>
