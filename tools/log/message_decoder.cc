@@ -1,6 +1,8 @@
 #include "tools/log/message_decoder.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <vector>
@@ -95,6 +97,18 @@ class StructDecoder {
     return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
   }
 
+  // The shortest decimal that reads back as the same float, as a double: a
+  // float32 402.46573 would otherwise print as 402.4657287597656.
+  static double shortest(float f) {
+    if (!std::isfinite(f)) return static_cast<double>(f);
+    char buf[32];
+    for (int digits = 6; digits < 9; ++digits) {
+      std::snprintf(buf, sizeof buf, "%.*g", digits, static_cast<double>(f));
+      if (std::strtof(buf, nullptr) == f) return std::strtod(buf, nullptr);
+    }
+    return static_cast<double>(f);
+  }
+
   Json decode_one(const LcmMember& m) {
     const std::string& t = m.type;
     if (t == "int8_t") return static_cast<int8_t>(in_.read_be(1, m.name));
@@ -107,7 +121,7 @@ class StructDecoder {
       const auto bits = static_cast<uint32_t>(in_.read_be(4, m.name));
       float f;
       std::memcpy(&f, &bits, sizeof f);
-      return number(static_cast<double>(f));
+      return number(shortest(f));
     }
     if (t == "double") {
       const uint64_t bits = in_.read_be(8, m.name);

@@ -44,6 +44,7 @@ ephor::objects_t two_objects() {
     o.u = 100.5f + static_cast<float>(i);
     o.v = -3.25f;
     o.x_mm = 812.0f;
+    o.y_mm = 402.46573f;
     o.vx_mm_s = -12.5f;
     o.area = 200 + i;
     m.objects.push_back(o);
@@ -67,6 +68,9 @@ TEST(MessageDecoder, DecodesNestedStructsArraysAndSignedValues) {
   EXPECT_DOUBLE_EQ(j["objects"][1]["u"].get<double>(), 101.5);
   EXPECT_DOUBLE_EQ(j["objects"][0]["v"].get<double>(), -3.25);
   EXPECT_DOUBLE_EQ(j["objects"][0]["vx_mm_s"].get<double>(), -12.5);
+  // Floats print with the digits a float has, not a double's.
+  EXPECT_EQ(j["objects"][0]["x_mm"].dump(), "812.0");
+  EXPECT_EQ(j["objects"][0]["y_mm"].dump(), "402.46573");
   // Declaration order is kept (CSV columns and readers rely on it).
   EXPECT_EQ(j.begin().key(), "utime");
 }
