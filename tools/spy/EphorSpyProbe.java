@@ -36,13 +36,17 @@ public class EphorSpyProbe {
     List<String> channels = new ArrayList<>();
     for (int i = 0; i < args.length; i++) {
       String a = args[i];
-      if (a.startsWith("--lcm-url=")) url = a.substring("--lcm-url=".length());
-      else if (a.equals("--out") && i + 1 < args.length) outArg = args[++i];
-      else if (a.equals("--timeout-s") && i + 1 < args.length) timeoutS = Double.parseDouble(args[++i]);
+      if (a.startsWith("--lcm-url="))
+        url = a.substring("--lcm-url=".length());
+      else if (a.equals("--out") && i + 1 < args.length)
+        outArg = args[++i];
+      else if (a.equals("--timeout-s") && i + 1 < args.length)
+        timeoutS = Double.parseDouble(args[++i]);
       else if (a.startsWith("-")) {
         System.err.println("EphorSpyProbe: unknown option " + a);
         System.exit(2);
-      } else channels.add(a);
+      } else
+        channels.add(a);
     }
     if (channels.isEmpty()) {
       System.err.println("EphorSpyProbe: name at least one CHANNEL to check");
@@ -55,15 +59,17 @@ public class EphorSpyProbe {
     List<String> missing = channels;
     while (System.currentTimeMillis() < end) {
       missing = undecoded(spy, channels);
-      if (missing.isEmpty()) break;
+      if (missing.isEmpty())
+        break;
       Thread.sleep(200);
     }
     // One more second of traffic so counts and rates settle in the picture.
-    if (missing.isEmpty()) Thread.sleep(1000);
+    if (missing.isEmpty())
+      Thread.sleep(1000);
     ChannelData first = spy.channelMap.get(channels.get(0));
     if (first != null && first.cls != null) {
       SwingUtilities.invokeAndWait(() -> spy.createViewer(first));
-      Thread.sleep(1500);  // the viewer repaints from the next messages
+      Thread.sleep(1500); // the viewer repaints from the next messages
     }
     try (PrintWriter w = new PrintWriter(new File(out, "channels.txt"))) {
       w.println("channel\ttype\tmessages\tundecodable\thz");
@@ -73,16 +79,20 @@ public class EphorSpyProbe {
     }
     for (String ch : channels) {
       ChannelData cd = spy.channelMap.get(ch);
-      if (cd == null || cd.last == null) continue;
+      if (cd == null || cd.last == null)
+        continue;
       try (PrintWriter w = new PrintWriter(new File(out, ch + ".txt"))) {
         dump(w, cd.last, "", 0);
       }
     }
     int n = 0;
     for (Window win : Window.getWindows()) {
-      if (!win.isShowing()) continue;
-      final File file =
-          new File(out, n == 0 ? "spy.png" : n == 1 ? "viewer.png" : "window" + n + ".png");
+      if (!win.isShowing())
+        continue;
+      final File file = new File(out,
+          n == 0       ? "spy.png"
+              : n == 1 ? "viewer.png"
+                       : "window" + n + ".png");
       SwingUtilities.invokeAndWait(() -> snapshot(win, file));
       n++;
     }
@@ -103,7 +113,8 @@ public class EphorSpyProbe {
         ChannelData cd = spy.channelMap.get(ch);
         boolean ok = cd != null && cd.cls != null && cd.cls.getName().startsWith("ephor.")
             && cd.nreceived > 0 && cd.nerrors == 0 && cd.last != null;
-        if (!ok) missing.add(ch);
+        if (!ok)
+          missing.add(ch);
       }
     }
     return missing;
@@ -111,8 +122,8 @@ public class EphorSpyProbe {
 
   static void snapshot(Component c, File file) {
     try {
-      BufferedImage img = new BufferedImage(Math.max(1, c.getWidth()), Math.max(1, c.getHeight()),
-          BufferedImage.TYPE_INT_RGB);
+      BufferedImage img = new BufferedImage(
+          Math.max(1, c.getWidth()), Math.max(1, c.getHeight()), BufferedImage.TYPE_INT_RGB);
       c.printAll(img.getGraphics());
       ImageIO.write(img, "png", file);
     } catch (Exception e) {
@@ -122,9 +133,11 @@ public class EphorSpyProbe {
 
   // The public fields of a decoded LCM object, as lcm-spy's viewer lists them.
   static void dump(PrintWriter w, Object o, String prefix, int depth) throws Exception {
-    if (depth > 4) return;
+    if (depth > 4)
+      return;
     for (Field f : o.getClass().getFields()) {
-      if (Modifier.isStatic(f.getModifiers())) continue;
+      if (Modifier.isStatic(f.getModifiers()))
+        continue;
       Object v = f.get(o);
       String name = prefix + f.getName();
       if (v == null) {
