@@ -31,16 +31,23 @@ Eigen::Isometry3d tool_down_pose(const geometry::Workcell& cell, double x_mm, do
   return field_to_base(cell, in_field);
 }
 
+Eigen::Isometry3d base_pose(const geometry::Workcell& cell) {
+  Eigen::Isometry3d b = Eigen::Isometry3d::Identity();
+  b.linear() = Eigen::AngleAxisd(cell.base_yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  b.translation() = base_origin(cell);
+  return b;
+}
+
 Eigen::Isometry3d base_to_field(const geometry::Workcell& cell, const Eigen::Isometry3d& in_base) {
-  Eigen::Isometry3d out = in_base;
-  out.translation() += base_origin(cell);
-  return out;
+  return base_pose(cell) * in_base;
 }
 
 Eigen::Isometry3d field_to_base(const geometry::Workcell& cell, const Eigen::Isometry3d& in_field) {
-  Eigen::Isometry3d out = in_field;
-  out.translation() -= base_origin(cell);
-  return out;
+  return base_pose(cell).inverse() * in_field;
+}
+
+Eigen::Vector3d base_point_to_field(const geometry::Workcell& cell, const Eigen::Vector3d& p) {
+  return base_pose(cell) * p;
 }
 
 ToolInField tool_in_field(const geometry::Workcell& cell, const Joints& q) {

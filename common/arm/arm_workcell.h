@@ -44,9 +44,14 @@ Puma560 make_puma(const geometry::Workcell& cell);
 Eigen::Isometry3d tool_down_pose(const geometry::Workcell& cell, double x_mm, double y_mm,
                                  double z_mm, double theta_rad);
 
-// Base-frame pose <-> F pose (translation only).
+// The base frame in F: the column axis at (base_x, base_y, base_z), turned
+// by base_yaw about z.
+Eigen::Isometry3d base_pose(const geometry::Workcell& cell);
+// Base-frame pose <-> F pose.
 Eigen::Isometry3d base_to_field(const geometry::Workcell& cell, const Eigen::Isometry3d& in_base);
 Eigen::Isometry3d field_to_base(const geometry::Workcell& cell, const Eigen::Isometry3d& in_field);
+// A point of the base frame (e.g. a link origin) in F, mm.
+Eigen::Vector3d base_point_to_field(const geometry::Workcell& cell, const Eigen::Vector3d& p);
 
 // Where the tool is in F for joints q.
 ToolInField tool_in_field(const geometry::Workcell& cell, const Joints& q);

@@ -81,3 +81,31 @@ TEST(ArmWorkcellTest, ParkIsToolDownAboveLowerRightCornerInElevationPlane) {
 
 }  // namespace
 }  // namespace ephor::arm
+
+// A turned base (Workcell::base_yaw_rad): a tool-down pose of F solved in the
+// base frame comes back to the same point and orientation of F, and joint 1
+// turns by the yaw difference for the same point.
+TEST(ArmWorkcellTest, TurnedBaseRoundTripsToolPosesThroughTheBaseFrame) {
+  geometry::Workcell turned;
+  turned.base_yaw_rad = 1.2;
+  const Puma560 puma = make_puma(turned);
+  const double x = 300.0, y = 250.0, z = turned.elevation_plane_z_mm, theta = 0.4;
+  const auto q = puma.nearest_inverse(tool_down_pose(turned, x, y, z, theta), reference_joints());
+  ASSERT_TRUE(q.has_value());
+  const ToolInField t = tool_in_field(turned, *q);
+  EXPECT_NEAR(t.tip_mm.x(), x, 1e-6);
+  EXPECT_NEAR(t.tip_mm.y(), y, 1e-6);
+  EXPECT_NEAR(t.tip_mm.z(), z, 1e-6);
+  EXPECT_NEAR(t.theta_rad, theta, 1e-9);
+  EXPECT_NEAR(t.tilt_rad, 0.0, 1e-6);
+  EXPECT_NEAR((base_point_to_field(turned, Eigen::Vector3d::Zero()) -
+               Eigen::Vector3d(turned.base_x_mm, turned.base_y_mm, turned.base_z_mm))
+                  .norm(),
+              0.0, 1e-9);
+
+  const geometry::Workcell straight;
+  const auto q0 =
+      puma.nearest_inverse(tool_down_pose(straight, x, y, z, theta), reference_joints());
+  ASSERT_TRUE(q0.has_value());
+  EXPECT_NEAR(std::remainder((*q0)(0) - (*q)(0), 2.0 * std::numbers::pi), 1.2, 1e-6);
+}

@@ -3,6 +3,8 @@
 #include <spdlog/fmt/fmt.h>
 #include <cmath>
 
+#include "common/arm/arm_workcell.h"
+
 namespace ephor::arm {
 
 namespace {}  // namespace
@@ -14,13 +16,13 @@ ArmCollisionChecker::ArmCollisionChecker(const Puma560& arm, const geometry::Wor
 std::optional<std::string> ArmCollisionChecker::collision(const Joints& q,
                                                           double min_tip_z_mm) const {
   if (!q.allFinite()) return "joint vector is not finite";
-  const Eigen::Vector3d base(cell_.base_x_mm, cell_.base_y_mm, cell_.base_z_mm);
   const auto frames = arm_.link_frames(q);
-  const Eigen::Vector3d shoulder = base + frames[1].translation();
-  const Eigen::Vector3d elbow = base + frames[2].translation();
-  const Eigen::Vector3d forearm_start = base + frames[3].translation();
-  const Eigen::Vector3d wrist = base + frames[4].translation();
-  const Eigen::Vector3d tip = base + arm_.forward(q).translation();
+  const auto in_field = [&](const Eigen::Vector3d& p) { return base_point_to_field(cell_, p); };
+  const Eigen::Vector3d shoulder = in_field(frames[1].translation());
+  const Eigen::Vector3d elbow = in_field(frames[2].translation());
+  const Eigen::Vector3d forearm_start = in_field(frames[3].translation());
+  const Eigen::Vector3d wrist = in_field(frames[4].translation());
+  const Eigen::Vector3d tip = in_field(arm_.forward(q).translation());
 
   // Points along each link centre line against the pedestal cylinder.
   const double keep_out = cell_.pedestal_radius_mm + config_.pedestal_clearance_mm;

@@ -3,8 +3,10 @@
 // communication process ("comm"): a valid command is executed once and
 // acknowledged ACCEPTED then DONE with the tool at the target; a repeated seq
 // is answered again without a second motion; malformed, out-of-range, stale
-// and foreign commands are refused and the arm does not move.
+// and foreign commands are refused and the arm does not move. An ESTOP stops
+// a motion and latches; a motion during which comm falls silent is stopped.
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -12,6 +14,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -25,6 +28,7 @@
 #include "ephor/arm_cmd_t.hpp"
 #include "ephor/arm_goal_t.hpp"
 #include "ephor/arm_state_t.hpp"
+#include "ephor/estop_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -70,6 +74,7 @@ class ArmProcessTest : public ::testing::Test {
         << "no ARM_STATE from ephor-arm";
   }
   void TearDown() override {
+    stop_polling();
     if (HasFailure()) {
       for (const char* name : {"arm", "sim"})
         for (const auto& line : procs_.lines(name)) std::cerr << name << ": " << line << "\n";
@@ -107,6 +112,32 @@ class ArmProcessTest : public ::testing::Test {
       return n;
     });
   }
+  // Sends a command and re-sends it every 200 ms, as ephor-comm polls while
+  // a motion runs (ephor-arm stops a motion when comm falls silent).
+  void send_and_poll(arm_cmd_t cmd) {
+    stop_polling();
+    bus_.publish(channels::kArmCmd, cmd);
+    polling_ = true;
+    poller_ = std::thread([this, cmd]() mutable {
+      while (polling_) {
+        for (int i = 0; i < 20 && polling_; ++i) std::this_thread::sleep_for(10ms);  // 200 ms
+        if (polling_) bus_.publish(channels::kArmCmd, cmd);
+      }
+    });
+  }
+  void stop_polling() {
+    polling_ = false;
+    if (poller_.joinable()) poller_.join();
+  }
+  void estop(bool stop) {
+    estop_t m{};
+    m.stop = stop;
+    m.reason = stop ? "test pressed stop" : "test released";
+    operator_.publish(channels::kEstop, m);
+  }
+  bool at_rest() {
+    return locked([&] { return !seen_.state->moving && seen_.state->speed_mm_s < 1.0f; });
+  }
   std::vector<double> joints() {
     return locked([&] { return std::vector<double>(seen_.state->q, seen_.state->q + 6); });
   }
@@ -115,12 +146,15 @@ class ArmProcessTest : public ::testing::Test {
   geometry::OverheadCamera camera_;
   ephor::testing::Processes procs_;
   Bus bus_{"", "comm"};
+  Bus operator_{"", "operator"};
   Seen seen_;
+  std::atomic<bool> polling_{false};
+  std::thread poller_;
 };
 
 TEST_F(ArmProcessTest, ExecutesACommandOnceAndReportsDoneAtTheTarget) {
   arm_cmd_t cmd = command_at(1, 1000.0, 700.0, arm_goal_t::PLANE_ELEVATION);
-  bus_.publish(channels::kArmCmd, cmd);
+  send_and_poll(cmd);
   ASSERT_TRUE(wait_until([&] { return ack_for(1, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
   EXPECT_GT(ack_for(1, arm_ack_t::STATUS_ACCEPTED)->planned_duration_s, 0.0f);
   ASSERT_TRUE(wait_until([&] { return ack_for(1, arm_ack_t::STATUS_DONE).has_value(); }, 20s))
@@ -136,6 +170,7 @@ TEST_F(ArmProcessTest, ExecutesACommandOnceAndReportsDoneAtTheTarget) {
     EXPECT_EQ(seen_.state->plane, int8_t{arm_goal_t::PLANE_ELEVATION});
     return 0;
   });
+  stop_polling();
   const int64_t trajectories = locked([&] { return seen_.trajectories; });
   // The communication process retransmits: the same command again.
   bus_.publish(channels::kArmCmd, cmd);
@@ -152,7 +187,7 @@ TEST_F(ArmProcessTest, JointSpaceMoveIsFollowedByTheServoAndReportsDone) {
   const int64_t states0 = locked([&] { return seen_.states; });
   const int64_t t0 = mono_ns();
   arm_cmd_t cmd = command_at(21, 60.0, 854.0, arm_goal_t::PLANE_ELEVATION);
-  bus_.publish(channels::kArmCmd, cmd);
+  send_and_poll(cmd);
   ASSERT_TRUE(wait_until([&] { return ack_for(21, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
   const float planned = ack_for(21, arm_ack_t::STATUS_ACCEPTED)->planned_duration_s;
   EXPECT_GT(planned, 3.0f);
@@ -177,12 +212,12 @@ TEST_F(ArmProcessTest, JointSpaceMoveIsFollowedByTheServoAndReportsDone) {
 // the old one is acknowledged FAILED with the reason, the new one DONE.
 TEST_F(ArmProcessTest, NewerCommandReplacesTheMotionInProgress) {
   arm_cmd_t first = command_at(31, 1100.0, 800.0, arm_goal_t::PLANE_ELEVATION);
-  bus_.publish(channels::kArmCmd, first);
+  send_and_poll(first);
   ASSERT_TRUE(wait_until([&] { return ack_for(31, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
   ASSERT_TRUE(
       wait_until([&] { return locked([&] { return seen_.state->speed_mm_s > 50.0f; }); }, 5s));
   arm_cmd_t second = command_at(32, 1000.0, 100.0, arm_goal_t::PLANE_ELEVATION);
-  bus_.publish(channels::kArmCmd, second);
+  send_and_poll(second);
   ASSERT_TRUE(wait_until([&] { return ack_for(31, arm_ack_t::STATUS_FAILED).has_value(); }, 5s));
   EXPECT_EQ(ack_for(31, arm_ack_t::STATUS_FAILED)->reason, "replaced by command seq 32");
   ASSERT_TRUE(wait_until([&] { return ack_for(32, arm_ack_t::STATUS_DONE).has_value(); }, 20s))
@@ -239,6 +274,63 @@ TEST_F(ArmProcessTest, RefusesBadCommandsAndDoesNotMove) {
   EXPECT_EQ(locked([&] { return seen_.trajectories; }), trajectories);
   EXPECT_EQ(count_acks(17), 0);
   for (int64_t seq : {11, 12, 13, 14, 15, 16}) EXPECT_EQ(count_acks(seq), 1);
+}
+
+// ESTOP from anyone: the motion in progress ends FAILED with the reason, the
+// arm comes to rest, and commands are refused until the stop is released.
+TEST_F(ArmProcessTest, EstopStopsTheArmAndLatchesUntilReleased) {
+  send_and_poll(command_at(41, 1100.0, 800.0, arm_goal_t::PLANE_ELEVATION));
+  ASSERT_TRUE(wait_until([&] { return ack_for(41, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
+  ASSERT_TRUE(
+      wait_until([&] { return locked([&] { return seen_.state->speed_mm_s > 50.0f; }); }, 5s));
+  const int64_t t0 = mono_ns();
+  estop(true);
+  ASSERT_TRUE(wait_until([&] { return ack_for(41, arm_ack_t::STATUS_FAILED).has_value(); }, 2s));
+  EXPECT_NE(ack_for(41, arm_ack_t::STATUS_FAILED)->reason.find("emergency stop from 'operator'"),
+            std::string::npos)
+      << ack_for(41, arm_ack_t::STATUS_FAILED)->reason;
+  ASSERT_TRUE(wait_until([&] { return at_rest(); }, 3s)) << "the arm did not come to rest";
+  std::cout << "ESTOP to rest: " << (mono_ns() - t0) / 1e6 << " ms\n";
+  EXPECT_FALSE(ack_for(41, arm_ack_t::STATUS_DONE).has_value());
+  stop_polling();
+
+  const std::vector<double> stopped = joints();
+  arm_cmd_t refused = command_at(42, 1000.0, 300.0, arm_goal_t::PLANE_ELEVATION);
+  bus_.publish(channels::kArmCmd, refused);
+  ASSERT_TRUE(wait_until([&] { return ack_for(42, arm_ack_t::STATUS_REJECTED).has_value(); }, 5s));
+  EXPECT_NE(ack_for(42, arm_ack_t::STATUS_REJECTED)->reason.find("emergency stop"),
+            std::string::npos);
+  const std::vector<double> still = joints();
+  for (size_t i = 0; i < 6; ++i) EXPECT_NEAR(still[i], stopped[i], 1e-6);
+
+  estop(false);
+  // Release is asynchronous to comm: re-send a fresh command until accepted.
+  int64_t seq = 43;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        if (ack_for(seq, arm_ack_t::STATUS_ACCEPTED)) return true;
+        ++seq;
+        auto c = command_at(seq, 1000.0, 300.0, arm_goal_t::PLANE_ELEVATION);
+        bus_.publish(channels::kArmCmd, c);
+        return false;
+      },
+      5s))
+      << "no command accepted after the release";
+}
+
+// Comm stops polling in the middle of a motion (its host is gone): the arm
+// stops the motion by itself and says why.
+TEST_F(ArmProcessTest, SilentCommStopsTheMotion) {
+  arm_cmd_t cmd = command_at(51, 1100.0, 800.0, arm_goal_t::PLANE_ELEVATION);
+  bus_.publish(channels::kArmCmd, cmd);  // sent once, never polled
+  ASSERT_TRUE(wait_until([&] { return ack_for(51, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
+  ASSERT_GT(ack_for(51, arm_ack_t::STATUS_ACCEPTED)->planned_duration_s, 1.5f);
+  ASSERT_TRUE(wait_until([&] { return ack_for(51, arm_ack_t::STATUS_FAILED).has_value(); }, 5s));
+  EXPECT_NE(ack_for(51, arm_ack_t::STATUS_FAILED)->reason.find("nothing heard from comm"),
+            std::string::npos)
+      << ack_for(51, arm_ack_t::STATUS_FAILED)->reason;
+  ASSERT_TRUE(wait_until([&] { return at_rest(); }, 3s));
+  EXPECT_FALSE(ack_for(51, arm_ack_t::STATUS_DONE).has_value());
 }
 
 }  // namespace

@@ -72,4 +72,9 @@ std::optional<ArmAck> ExecutionMonitor::preempt(int64_t by_seq) {
   return finish(AckStatus::kFailed, fmt::format("replaced by command seq {}", by_seq));
 }
 
+std::optional<ArmAck> ExecutionMonitor::abort(std::string reason) {
+  if (!busy_) return std::nullopt;
+  return finish(AckStatus::kFailed, std::move(reason));
+}
+
 }  // namespace ephor::arm

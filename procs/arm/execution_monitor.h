@@ -40,6 +40,9 @@ class ExecutionMonitor {
   std::optional<ArmAck> on_tick(int64_t now_us);
   // A newer command replaces the executing one: its FAILED ack.
   std::optional<ArmAck> preempt(int64_t by_seq);
+  // The arm stopped the executing motion itself (emergency stop, comm
+  // silent): its FAILED ack with the reason.
+  std::optional<ArmAck> abort(std::string reason);
 
   bool busy() const { return busy_; }
   int64_t executing_seq() const { return busy_ ? cmd_seq_ : 0; }

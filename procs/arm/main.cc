@@ -6,7 +6,8 @@
 // servo layer and acknowledges: ACCEPTED, then DONE or FAILED; REJECTED (with
 // the reason, never moving) for anything invalid, stale or unreachable.
 //
-//   subscribes  ARM_CMD (arm_cmd_t, from --accept-from only), ARM_SERVO (joint_state_t)
+//   subscribes  ARM_CMD (arm_cmd_t, from --accept-from only), ARM_SERVO (joint_state_t),
+//               ESTOP (estop_t, from anyone)
 //   publishes   ARM_TRAJECTORY (joint_trajectory_t), ARM_ACK (arm_ack_t),
 //               ARM_STATE (arm_state_t, task "state" every 10 ms)
 //   tasks       state (periodic 10 ms), command (triggered by ARM_CMD: validate, plan, send)
@@ -14,6 +15,11 @@
 // Each command (seq, first-sent utime) is executed at most once: a repeat gets
 // the newest ack it was given again. A newer valid command replaces a motion
 // in progress (the old one is acknowledged FAILED "replaced by command seq N").
+//
+// Safety (SafetyGate): an ESTOP stops the arm at once (controlled_stop, sent
+// from the bus thread as the message arrives) and latches until released;
+// a motion during which comm has gone silent for --comm-timeout-ms is
+// stopped by the state task (checked every 10 ms). Both fail the motion.
 
 #include <atomic>
 #include <cmath>
@@ -41,13 +47,16 @@
 #include "ephor/arm_cmd_t.hpp"
 #include "ephor/arm_goal_t.hpp"
 #include "ephor/arm_state_t.hpp"
+#include "ephor/estop_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "procs/arm/arm_command.h"
 #include "procs/arm/command_ledger.h"
 #include "procs/arm/command_validator.h"
+#include "procs/arm/controlled_stop.h"
 #include "procs/arm/execution_monitor.h"
 #include "procs/arm/motion_planner.h"
+#include "procs/arm/safety_gate.h"
 
 namespace {
 
@@ -68,6 +77,7 @@ struct Options {
   std::string accept_from = "comm";
   double servo_silence_ms = 250.0;  // refuse commands when the servo has been quiet this long
   double replan_tolerance_rad = 0.02;
+  double comm_timeout_ms = 1000.0;  // stop a motion when comm is silent this long; 0 = never
 };
 
 class ArmProcess {
@@ -83,6 +93,7 @@ class ArmProcess {
         validator_(calibration, cell, {camera.width_px, camera.height_px, options.max_speed_mm_s}),
         calibration_(std::move(calibration)),
         planner_(cell, planner_config(options)),
+        gate_({static_cast<int64_t>(options.comm_timeout_ms * 1e3)}),
         next_trajectory_seq_(ephor::wall_us()) {}
 
   static ephor::arm::MotionPlannerConfig planner_config(const Options& o) {
@@ -101,6 +112,10 @@ class ArmProcess {
       return;
     }
     {
+      std::lock_guard<std::mutex> lock(mutex_);
+      gate_.on_comm_heard(ephor::mono_us());
+    }
+    {
       std::lock_guard<std::mutex> lock(queue_mutex_);
       if (queue_.size() >= 64) {
         spdlog::warn("ARM_CMD queue full: dropping seq {} (the sender will retransmit)",
@@ -110,6 +125,19 @@ class ArmProcess {
       queue_.push_back(m);
     }
     runtime_.trigger("command");
+  }
+
+  // Bus thread: acted on at once, not queued behind commands being planned.
+  void on_estop(const ephor::estop_t& m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!gate_.on_estop(m.stop, m.header.sender, m.reason)) return;  // a repeat
+    if (!m.stop) {
+      spdlog::warn("emergency stop released by '{}' ({}): commands accepted again", m.header.sender,
+                   m.reason);
+      return;
+    }
+    spdlog::error("EMERGENCY STOP from '{}': {}", m.header.sender, m.reason);
+    stop_motion(*gate_.stop_reason(true, ephor::mono_us()));
   }
 
   // Bus thread.
@@ -154,6 +182,10 @@ class ArmProcess {
   void state_job() {
     std::lock_guard<std::mutex> lock(mutex_);
     finish_if(monitor_.on_tick(ephor::mono_us()));
+    if (const auto why = gate_.stop_reason(monitor_.busy(), ephor::mono_us())) {
+      spdlog::error("{}", *why);
+      stop_motion(*why);
+    }
     if (!servo_) return;  // nothing known about the arm yet
     const ephor::arm::ToolInField tool = ephor::arm::tool_in_field(cell_, servo_->q);
     const auto plane = nearest_plane(tool.tip_mm.z());
@@ -250,6 +282,7 @@ class ArmProcess {
         publish_ack(*previous, m.utime);  // at most once: answer again, do not move again
         return;
       }
+      if (const auto why = gate_.refuse_command()) return reject(m, *why);
       const int64_t age_us = ephor::wall_us() - m.utime;
       const auto max_age_us = static_cast<int64_t>(options_.max_age_ms * 1000.0);
       if (m.utime <= 0) return reject(m, "command has no send time (utime <= 0)");
@@ -285,6 +318,7 @@ class ArmProcess {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!v.ok) return reject(m, v.reason);
       if (!plan.ok) return reject(m, plan.reason);
+      if (const auto why = gate_.refuse_command()) return reject(m, *why);  // while planning
       if ((servo_->q - start).cwiseAbs().maxCoeff() <= options_.replan_tolerance_rad) {
         send(m, v, plan);
         return;
@@ -295,22 +329,36 @@ class ArmProcess {
     reject(m, "the arm kept moving while the motion was planned (3 attempts)");
   }
 
-  // Caller holds mutex_.
-  void send(const ephor::arm_cmd_t& m, const ephor::arm::Validation& v,
-            const ephor::arm::MotionPlan& plan) {
-    finish_if(monitor_.preempt(m.seq));
+  // Brings the arm to rest now and fails the motion in progress. Caller
+  // holds mutex_.
+  void stop_motion(const std::string& why) {
+    finish_if(monitor_.abort(why));
+    if (!servo_) return;  // never heard the servo: nothing was sent to it
+    publish_trajectory(ephor::arm::controlled_stop(servo_->q, servo_->qd, arm_.limits()));
+  }
+
+  // Caller holds mutex_. Returns the trajectory's seq.
+  int64_t publish_trajectory(const ephor::arm::Trajectory& trajectory) {
     ephor::joint_trajectory_t t;
     t.utime = ephor::wall_us();
     t.seq = ++next_trajectory_seq_;
-    t.num_points = static_cast<int32_t>(plan.trajectory.points.size());
-    for (const auto& p : plan.trajectory.points) {
+    t.num_points = static_cast<int32_t>(trajectory.points.size());
+    for (const auto& p : trajectory.points) {
       t.t_s.push_back(static_cast<float>(p.t_s));
       t.q.emplace_back(p.q.data(), p.q.data() + 6);
       t.qd.emplace_back(p.qd.data(), p.qd.data() + 6);
     }
     bus_.publish(ephor::channels::kArmTrajectory, t);
+    return t.seq;
+  }
+
+  // Caller holds mutex_.
+  void send(const ephor::arm_cmd_t& m, const ephor::arm::Validation& v,
+            const ephor::arm::MotionPlan& plan) {
+    finish_if(monitor_.preempt(m.seq));
+    const int64_t trajectory_seq = publish_trajectory(plan.trajectory);
     monitor_.set_plane(m.plane);
-    monitor_.start(m.seq, m.goal_id, t.seq, plan.goal_q, plan.trajectory.duration_s(),
+    monitor_.start(m.seq, m.goal_id, trajectory_seq, plan.goal_q, plan.trajectory.duration_s(),
                    ephor::mono_us());
     executing_cmd_utime_ = m.utime;
     ArmAck ack;
@@ -346,6 +394,7 @@ class ArmProcess {
   int64_t servo_mono_us_ = 0;
   ephor::arm::CommandLedger ledger_;
   ephor::arm::ExecutionMonitor monitor_;
+  ephor::arm::SafetyGate gate_;
   int64_t executing_cmd_utime_ = 0;
   int64_t next_trajectory_seq_;
 
@@ -372,6 +421,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 600000.0));
   app.add_option("--accept-from", options.accept_from,
                  "the only sender (header.sender) whose commands are executed (default comm)");
+  app.add_option("--comm-timeout-ms", options.comm_timeout_ms,
+                 "stop a motion when nothing has been heard from the commanding sender for this "
+                 "long, ms (comm polls every 200 ms while a motion runs; 0 = never; default 1000)")
+      ->check(CLI::Range(0.0, 600000.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
@@ -388,13 +441,17 @@ int main(int argc, char** argv) {
     ArmProcess arm(bus, runtime, cell, std::move(calibration), camera, options);
     bus.subscribe<ephor::arm_cmd_t>(ephor::channels::kArmCmd,
                                     [&arm](const ephor::arm_cmd_t& m) { arm.on_command(m); });
+    bus.subscribe<ephor::estop_t>(ephor::channels::kEstop,
+                                  [&arm](const ephor::estop_t& m) { arm.on_estop(m); });
     bus.subscribe<ephor::joint_state_t>(ephor::channels::kArmServo,
                                         [&arm](const ephor::joint_state_t& m) { arm.on_servo(m); });
     runtime.add_periodic("state", std::chrono::milliseconds(10), [&arm] { arm.state_job(); });
     runtime.add_triggered("command", std::chrono::seconds(1), [&arm] { arm.command_job(); });
     runtime.start();
-    spdlog::info("ready: max speed {:.0f} mm/s, max command age {:.0f} ms, accepting from '{}'",
-                 options.max_speed_mm_s, options.max_age_ms, options.accept_from);
+    spdlog::info(
+        "ready: max speed {:.0f} mm/s, max command age {:.0f} ms, accepting from '{}', comm "
+        "timeout {:.0f} ms, ESTOP obeyed from anyone",
+        options.max_speed_mm_s, options.max_age_ms, options.accept_from, options.comm_timeout_ms);
     ephor::wait_for_shutdown_signal(duration_s);
     runtime.stop();
     arm.log_summary();

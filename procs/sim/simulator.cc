@@ -19,8 +19,9 @@ constexpr double kToolRadiusMm = 8.0;
 std::vector<ArmPart> arm_parts(const arm::Puma560& puma, const geometry::Workcell& cell,
                                const arm::Joints& q) {
   const auto frames = puma.link_frames(q);
-  const Eigen::Vector3d base(cell.base_x_mm, cell.base_y_mm, cell.base_z_mm);
-  const auto at = [&](const Eigen::Vector3d& p_base) -> Eigen::Vector3d { return base + p_base; };
+  const auto at = [&](const Eigen::Vector3d& p_base) -> Eigen::Vector3d {
+    return arm::base_point_to_field(cell, p_base);
+  };
   const Eigen::Vector3d o1 = frames[1].translation();
   const Eigen::Vector3d o2 = frames[2].translation();
   const Eigen::Vector3d z2 = frames[2].linear().col(2);

@@ -64,8 +64,10 @@ TEST(Simulator, LoweredArmOverASheepTurnsItAndHidesItsMark) {
   EXPECT_GT(bright_pixels_near(img, gt.sheep[0].view.centre_px, 12.0), 150);
 
   // Over it in the elevation plane: hidden, not touched.
-  ASSERT_TRUE(sim.follow(move_tool(sim, 1, 300.0, 250.0, cell.elevation_plane_z_mm, 4.0)));
-  for (int i = 0; i < 50 && !sim.servo().trajectory_done; ++i) sim.step(0.1);
+  ASSERT_TRUE(sim.follow(
+      move_tool(sim, 1, 300.0, 250.0, cell.elevation_plane_z_mm,
+                6.0)));  // one joint-space step from park: slow enough for the joint speed limits
+  for (int i = 0; i < 80 && !sim.servo().trajectory_done; ++i) sim.step(0.1);
   ASSERT_TRUE(sim.servo().trajectory_done);
   ASSERT_FALSE(sim.servo().fault) << sim.servo().fault_reason;
   gt = sim.render(img);
