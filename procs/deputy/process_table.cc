@@ -84,6 +84,9 @@ void ProcessTable::apply(const std::vector<ProcessOrder>& orders, int64_t now_ns
       old->order.name.clear();  // moved out; not carried over below
     }
     const bool was_run = old != nullptr && row.order.run;
+    const bool changed = old == nullptr || was_run != o.run || row.order.run_id != o.run_id ||
+                         !row.order.same_command(o);
+    if (changed) ++version_;  // the desired state is part of the status
     row.order = o;
     row.forget = false;
     if (row.run_id < 0) row.started_as = o;
@@ -98,7 +101,6 @@ void ProcessTable::apply(const std::vector<ProcessOrder>& orders, int64_t now_ns
       row.crashes_in_row = 0;
       set_state(row, ProcessState::kStopped, "stopped by orders (" + row.reason + ")");
     }
-    ++version_;  // the desired state (run) is part of the status
     next.push_back(std::move(row));
   }
   // Processes no longer ordered: stop the running ones, then forget them.

@@ -42,9 +42,12 @@ TEST(ProcessTable, StartsOrderedProcessesInOrderAndOnlyOnce) {
   EXPECT_EQ(actions[1].name, "a");
   EXPECT_EQ(d.table.find("a")->state, ProcessState::kRunning);
   EXPECT_EQ(d.table.find("b")->state, ProcessState::kStopped);
-  // The same orders again (the sheriff repeats them at 1 Hz) change nothing.
+  // The same orders again (the sheriff repeats them at 1 Hz) change nothing,
+  // not even the status version (no extra status message).
+  const uint64_t version = d.table.version();
   d.table.apply({order("scheduler"), order("a"), order("b", false)}, 10 * kMs);
   EXPECT_TRUE(d.step(10 * kMs).empty());
+  EXPECT_EQ(d.table.version(), version);
   EXPECT_EQ(d.table.find("a")->pid, 101);
 }
 

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -169,7 +170,19 @@ std::vector<ExitInfo> ProcessGroup::poll(int timeout_ms) {
   } else if (wait_ms > 0) {
     usleep(static_cast<useconds_t>(wait_ms) * 1000);
   }
-  return reap();
+  auto exits = reap();
+  // Forget children that exited and whose output is closed: a deputy
+  // restarts processes for days.
+  children_.erase(std::remove_if(children_.begin(), children_.end(),
+                                 [](const Child& c) { return c.exited && c.out_fd < 0; }),
+                  children_.end());
+  return exits;
+}
+
+bool ProcessGroup::signal(pid_t pid, int sig) {
+  for (const auto& c : children_)
+    if (c.pid == pid && !c.exited) return kill(pid, sig) == 0;
+  return false;
 }
 
 std::vector<ExitInfo> ProcessGroup::stop_all(std::chrono::milliseconds grace) {

@@ -57,6 +57,10 @@ class ProcessGroup {
   // for them, then SIGKILLs the rest. Output is forwarded meanwhile.
   std::vector<ExitInfo> stop_all(std::chrono::milliseconds grace);
 
+  // Sends `sig` to the running child `pid` (the deputy stops one process at
+  // a time). Returns false when `pid` is not a running child of this group.
+  bool signal(pid_t pid, int sig);
+
   size_t running() const;
 
  private:

@@ -1,5 +1,7 @@
 #include "procs/launcher/process_group.h"
 
+#include <signal.h>
+
 #include <map>
 
 #include <gtest/gtest.h>
@@ -42,6 +44,21 @@ TEST(ProcessGroup, CapturesLinesAndExitStatus) {
   EXPECT_TRUE(exits[0].failure);
   EXPECT_EQ(exits[0].describe(), "exited with status 3");
   EXPECT_EQ(cap.lines["talker"], (std::vector<std::string>{"one", "two", "three"}));
+}
+
+TEST(ProcessGroup, SignalsOneChildAndForgetsExitedOnes) {
+  Captured cap;
+  ProcessGroup g(cap.handler());
+  const pid_t a = g.start(sh("a", "exec sleep 30"));
+  g.start(sh("b", "exec sleep 30"));
+  EXPECT_TRUE(g.signal(a, SIGKILL));
+  const auto exits = wait_exits(g, 1);
+  ASSERT_EQ(exits.size(), 1u);
+  EXPECT_EQ(exits[0].name, "a");
+  EXPECT_EQ(exits[0].describe(), "killed by signal 9 (Killed)");
+  EXPECT_EQ(g.running(), 1u);          // b untouched
+  EXPECT_FALSE(g.signal(a, SIGTERM));  // no longer a child: never signals a reused pid
+  g.stop_all(std::chrono::milliseconds(500));
 }
 
 TEST(ProcessGroup, AllowedCleanExitIsNotAFailure) {
