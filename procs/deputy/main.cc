@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   const char* runtime_dir = std::getenv("XDG_RUNTIME_DIR");
   const std::filesystem::path state_dir =
       std::filesystem::path(runtime_dir != nullptr && *runtime_dir != '\0' ? runtime_dir : "/tmp") /
-      ("ephor-deputy-" + args.host + "-" + std::to_string(getuid()));
+      ("ephor-deputy-" + args.host + "-" + std::to_string(getpid()));
   settings.manifest_path = (state_dir / "manifest.pbtxt").string();
 
   RestartPolicy policy;
@@ -244,6 +244,8 @@ int main(int argc, char** argv) {
     group.stop_all(std::chrono::duration_cast<std::chrono::milliseconds>(
         std::chrono::nanoseconds(policy.stop_grace_ns)));
     bus.stop();
+    std::error_code ec;
+    std::filesystem::remove_all(state_dir, ec);
     say(host, "all stopped");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "[deputy@%s] %s\n", args.host.c_str(), e.what());
