@@ -121,10 +121,10 @@ void ProcessTable::started(const std::string& name, pid_t pid, int64_t now_ns) {
   ProcessRow* r = find_mutable(name);
   if (r == nullptr || r->state != ProcessState::kStarting) return;
   r->pid = pid;
-  r->started_ns = now_ns;
-  r->exit_code = -1;
-  r->exit_signal = 0;
-  set_state(*r, ProcessState::kRunning, "started");
+  r->started_ns = now_ns;  // exit_code / exit_signal keep the last exit
+  set_state(*r, ProcessState::kRunning,
+            r->crash_restart ? "restarted after crash: " + r->last_crash : "started");
+  r->crash_restart = false;
 }
 
 void ProcessTable::start_failed(const std::string& name, const std::string& reason) {
@@ -155,6 +155,7 @@ void ProcessTable::exited(pid_t pid, bool signaled, int code, const std::string&
     set_state(*r, ProcessState::kFinished, "finished: " + description);
     return;
   }
+  r->last_crash = description;
   if (now_ns - r->started_ns >= policy_.stable_time_ns) r->crashes_in_row = 0;
   ++r->crashes_in_row;
   if (r->crashes_in_row > policy_.max_restarts) {
@@ -201,7 +202,8 @@ std::vector<Action> ProcessTable::step(int64_t now_ns) {
         const bool due = r.state == ProcessState::kStopped ||
                          (r.order.run && (new_run || now_ns >= r.next_start_ns));
         if (!r.order.run || !due) break;
-        if (r.state == ProcessState::kBackoff && !new_run) ++r.restarts;
+        r.crash_restart = r.state == ProcessState::kBackoff && !new_run;
+        if (r.crash_restart) ++r.restarts;
         r.started_as = r.order;
         r.run_id = r.order.run_id >= 0 ? r.order.run_id : std::max(r.run_id, 0);
         set_state(r, ProcessState::kStarting, r.reason);

@@ -71,14 +71,16 @@ struct ProcessRow {
   int32_t run_id = -1;  // run_id of the current (or last) run; -1 = never started
   int restarts = 0;     // automatic restarts after crashes
   int crashes_in_row = 0;
-  int exit_code = -1;         // last exit status; -1 = none yet or killed by a signal
-  int exit_signal = 0;        // signal that ended the last run; 0 = none
-  std::string reason;         // why the process is in its state, for people
-  int64_t started_ns = 0;     // start of the current run
-  int64_t next_start_ns = 0;  // kBackoff: when to restart
-  int64_t kill_at_ns = 0;     // kStopping: when to send SIGKILL
-  bool kill_sent = false;     // kStopping: SIGKILL already sent
-  bool forget = false;        // no longer in the orders: drop the row once stopped
+  int exit_code = -1;          // last exit status; -1 = none yet or killed by a signal
+  int exit_signal = 0;         // signal that ended the last run; 0 = none
+  std::string reason;          // why the process is in its state, for people
+  int64_t started_ns = 0;      // start of the current run
+  int64_t next_start_ns = 0;   // kBackoff: when to restart
+  int64_t kill_at_ns = 0;      // kStopping: when to send SIGKILL
+  bool kill_sent = false;      // kStopping: SIGKILL already sent
+  bool forget = false;         // no longer in the orders: drop the row once stopped
+  bool crash_restart = false;  // kStarting: restarted after a crash (reason keeps the crash)
+  std::string last_crash;      // how the last crashed run ended, e.g. "killed by signal 9 (Killed)"
 };
 
 struct Action {

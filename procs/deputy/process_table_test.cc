@@ -70,6 +70,7 @@ TEST(ProcessTable, CrashRestartsWithDoublingBackoffAndKeepsTheReason) {
     EXPECT_TRUE(d.step(t + delay_ms * kMs - 1).empty());
     ASSERT_EQ(d.step(t + delay_ms * kMs).size(), 1u);
     EXPECT_EQ(d.table.find("a")->state, ProcessState::kRunning);
+    EXPECT_EQ(d.table.find("a")->reason, "restarted after crash: killed by signal 9 (Killed)");
     t += delay_ms * kMs + 10 * kMs;  // each run crashes after 10 ms
   }
   EXPECT_EQ(d.table.find("a")->restarts, 4);
