@@ -108,9 +108,9 @@ CommandResult CommandValidator::validate(const std::string& command,
 
   const auto value = param(params, "value");
   if (command != "pause" && command != "mode" && command != "scan" && command != "planner" &&
-      command != "sheep") {
+      command != "sheep" && command != "estop") {
     return refuse("unknown command '" + command +
-                  "' (want pause, mode, scan, planner, sheep or box)");
+                  "' (want pause, mode, scan, planner, sheep, box or estop)");
   }
   if (!value) return refuse(command + " needs a value");
   const std::string& s = *value;
@@ -139,6 +139,12 @@ CommandResult CommandValidator::validate(const std::string& command,
       return refuse("scan '" + s + "' is neither full nor axis");
     }
     return accept(Target::kVision, next);
+  }
+  if (command == "estop") {
+    const auto b = parse_bool(s);
+    if (!b) return refuse("estop value '" + s + "' is neither true nor false");
+    next.estop = *b;
+    return accept(Target::kEstop, next);
   }
   if (command == "planner") {
     if (s != "single" && s != "multi" && s != "lookahead") {

@@ -244,6 +244,7 @@ nlohmann::json DisplayState::to_json(const Controls& controls, int64_t now_us) c
                    {"scan", scan_name(controls.vision.scan)},
                    {"threshold", controls.vision.threshold},
                    {"planner", controls.planner},
+                   {"estop", controls.estop},
                    {"sheep", controls.sim.sheep},
                    {"box",
                     {{"visible", controls.box.visible},

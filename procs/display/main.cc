@@ -36,6 +36,7 @@
 #include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
+#include "ephor/estop_t.hpp"
 #include "procs/display/command_validator.h"
 #include "procs/display/display_state.h"
 #include "procs/display/frame_encoder.h"
@@ -303,6 +304,14 @@ bool publish_control(Bus& bus, display::Target target, const Controls& c) {
       m.half_size_px = static_cast<float>(c.box.half_size_px);
       return bus.publish(channels::kDisplayBox, m);
     }
+    case display::Target::kEstop: {
+      estop_t m{};
+      m.utime = wall_us();
+      m.stop = c.estop;
+      m.reason = c.estop ? "operator pressed STOP on the display page"
+                         : "operator pressed release on the display page";
+      return bus.publish(channels::kEstop, m);
+    }
     case display::Target::kNone:
       break;
   }
@@ -496,6 +505,13 @@ int main(int argc, char** argv) {
     uint64_t jpegs_at_status = 0;
     while (wait_for_shutdown_signal(0.25) == 0) {
       update_rates(bus, sh);
+      // A pressed STOP is repeated every second, so a lost message or an
+      // ephor-arm started later still hears it. A release is sent once: a
+      // repeated release would undo someone else's stop.
+      if (ticks % 4 == 0) {
+        std::lock_guard<std::mutex> lock(sh.mutex);
+        if (sh.controls.estop) publish_control(bus, display::Target::kEstop, sh.controls);
+      }
       if (++ticks % 40 == 0) {
         uint64_t jpegs = 0;
         {

@@ -149,6 +149,13 @@ try {
   r = await probe(['--want', 'messages', '--channel', 'PLANNER_CMD', '--min', '1', '--timeout-s', '3'],
     () => page.click('#btn-lookahead'));
   check(r.code === 0, 'planner button sends PLANNER_CMD');
+  r = await probe(['--want', 'messages', '--channel', 'ESTOP', '--min', '2', '--timeout-s', '4'],
+    () => page.click('#btn-estop'));
+  check(r.code === 0, 'STOP sends ESTOP and repeats it while held');
+  check((await controls()).estop === true, 'controls show the stop held');
+  r = await probe(['--want', 'messages', '--channel', 'ESTOP', '--min', '1', '--timeout-s', '3'],
+    () => page.click('#btn-release'));
+  check(r.code === 0 && (await controls()).estop === false, 'release sends ESTOP and clears the stop');
   r = await probe(['--want', 'messages', '--channel', 'SIM_CMD', '--min', '1', '--timeout-s', '3'], async () => {
     await page.fill('#sheep', '4');
     await page.click('#btn-sheep');

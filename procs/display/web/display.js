@@ -228,6 +228,8 @@ function updateTables() {
     ['btn-multi', c.planner === 'multi'], ['btn-lookahead', c.planner === 'lookahead']]) {
     $(id).classList.toggle('active', on);
   }
+  $('btn-estop').classList.toggle('paused', c.estop);  // lit while the stop is held
+  $('btn-estop').textContent = c.estop ? 'STOPPED' : 'STOP arm';
   const sheep = $('sheep');
   if (document.activeElement !== sheep) sheep.value = c.sheep;
 }
