@@ -79,9 +79,6 @@ TEST(ArmWorkcellTest, ParkIsToolDownAboveLowerRightCornerInElevationPlane) {
   EXPECT_NEAR(t.tilt_rad, 0.0, 1e-6);
 }
 
-}  // namespace
-}  // namespace ephor::arm
-
 // A turned base (Workcell::base_yaw_rad): a tool-down pose of F solved in the
 // base frame comes back to the same point and orientation of F, and joint 1
 // turns by the yaw difference for the same point.
@@ -103,9 +100,15 @@ TEST(ArmWorkcellTest, TurnedBaseRoundTripsToolPosesThroughTheBaseFrame) {
                   .norm(),
               0.0, 1e-9);
 
+  // The same configuration under an unturned base: joint 1 differs by the yaw.
   const geometry::Workcell straight;
-  const auto q0 =
-      puma.nearest_inverse(tool_down_pose(straight, x, y, z, theta), reference_joints());
+  Joints seed = *q;
+  seed(0) += 1.2;
+  const auto q0 = puma.nearest_inverse(tool_down_pose(straight, x, y, z, theta), seed);
   ASSERT_TRUE(q0.has_value());
   EXPECT_NEAR(std::remainder((*q0)(0) - (*q)(0), 2.0 * std::numbers::pi), 1.2, 1e-6);
+  EXPECT_NEAR(((*q0).tail<5>() - (*q).tail<5>()).norm(), 0.0, 1e-6);
 }
+
+}  // namespace
+}  // namespace ephor::arm
