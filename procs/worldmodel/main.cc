@@ -168,6 +168,11 @@ int main(int argc, char** argv) {
   app.add_option("--mark-height-mm", config.mark_height_mm,
                  "height in F of the sheep's marks, mm (the calibration is evaluated there)")
       ->check(CLI::Range(-1000.0, 2000.0));
+  config.mark_diameter_mm = 42.0;  // the simulator's wool marks (procs/sim/world.h)
+  app.add_option("--mark-diameter-mm", config.mark_diameter_mm,
+                 "diameter of a whole mark, mm: a new blob much smaller is a mark still partly "
+                 "under the arm and is measured once whole (0 = unknown, measure at once)")
+      ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--max-obscured-s", config.max_obscured_s,
                  "an object hidden this long is dropped (dead), s")
       ->check(CLI::PositiveNumber);

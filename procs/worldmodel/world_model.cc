@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -24,13 +25,18 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
       !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
       !(c.reacquire_area_ratio >= c.partial_area_ratio && c.reacquire_area_ratio < 1.0) ||
-      !std::isfinite(c.mark_height_mm))
+      !std::isfinite(c.mark_height_mm) || !finite_nonneg(c.mark_diameter_mm))
     throw std::invalid_argument(
         "world model config: gates, growth rates and times must be finite and positive, "
         "obscured_gate_max_px >= obscured_gate_px, merge_area_ratio > 1, "
         "0 <= partial_area_ratio <= reacquire_area_ratio < 1");
   DoubleAlphaBetaFilter probe(c.filter);  // throws on bad filter parameters
   mark_map_ = calibration_.matrix_at_height(c.mark_height_mm);
+  // mm^2 per px^2 near the image centre is |det| of the map's linear part.
+  const double mm2_per_px2 = std::abs(mark_map_.block<2, 2>(0, 0).determinant());
+  if (c.mark_diameter_mm > 0.0 && mm2_per_px2 > 0.0)
+    whole_mark_area_px_ =
+        std::numbers::pi * 0.25 * c.mark_diameter_mm * c.mark_diameter_mm / mm2_per_px2;
 }
 
 bool WorldModel::inside_field(const Eigen::Vector2d& px) const {
@@ -247,6 +253,18 @@ void WorldModel::stage4_new(const std::vector<Eigen::Vector2d>& blobs,
     Track t{.id = next_id_, .filter = DoubleAlphaBetaFilter(config_.filter)};
     ++next_id_;
     ++counters_.objects_created;
+    if (areas[b] < config_.partial_area_ratio * whole_mark_area_px_) {
+      // Partly hidden: an obscured object at the blob, measured once whole.
+      ++counters_.born_partial;
+      t.state = ObjectState::kObscured;
+      t.seen_px = blobs[b];
+      t.seen_s = now_s_;
+      t.estimate_px = blobs[b];
+      t.area_px = areas[b];
+      t.usual_area_px = whole_mark_area_px_;
+      tracks_.emplace(t.id, std::move(t));
+      continue;
+    }
     see(t, blobs[b], areas[b], false);
     tracks_.emplace(t.id, std::move(t));
   }

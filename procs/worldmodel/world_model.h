@@ -99,6 +99,13 @@ struct WorldModelConfig {
   // fraction (hysteresis: as a mark comes out from under the arm its centroid
   // still slides until it is nearly whole).
   double reacquire_area_ratio = 0.92;
+  // Diameter of a whole mark in F, mm (0 = unknown). When known, a new blob
+  // smaller than partial_area_ratio of a whole mark's image area is a mark
+  // coming out from under the arm: its object starts obscured and is
+  // measured from the first nearly whole blob (reacquire_area_ratio), as a
+  // known object's would be. Without it a new track starts from the sliding
+  // centroid of the part that shows and is off by px for the first second.
+  double mark_diameter_mm = 0.0;
   double max_obscured_s = 10.0;  // lost: stop dead-reckoning
   double report_dead_s = 2.0;    // keep reporting a dead object this long
 };
@@ -112,6 +119,7 @@ struct WorldModelCounters {
   int64_t objects_created = 0;
   int64_t objects_died = 0;
   int64_t reacquired = 0;     // stage 2 matches
+  int64_t born_partial = 0;   // new objects started obscured from a partly hidden mark
   int64_t partial_blobs = 0;  // blobs associated but not measured (partly hidden marks)
   int64_t merges = 0;         // objects sent to coast by a merged blob
 };
@@ -162,6 +170,8 @@ class WorldModel {
   void kill(Track& t);
   bool inside_field(const Eigen::Vector2d& px) const;
   Eigen::Vector2d dead_reckoned(const Track& t) const;
+
+  double whole_mark_area_px_ = 0.0;  // image area of a whole mark; 0 = unknown
 
   calibration::FieldCalibration calibration_;
   WorldModelConfig config_;

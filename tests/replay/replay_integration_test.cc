@@ -140,8 +140,9 @@ struct TruthScore {
   int tracked = 0;       // ... with a visible object within 5 px
   double max_error_px = 0.0;
   double sum_error_px = 0.0;
-  int over_1px = 0;        // tracked sheep-frames with an error above 1 px
-  int settled_frames = 0;  // tracked sheep-frames of settled tracks (see score())
+  int over_1px = 0;              // tracked sheep-frames with an error above 1 px
+  int settled_sheep_frames = 0;  // visible sheep-frames of settled sheep (see score())
+  int settled_frames = 0;        // ... tracked
   double settled_max_error_px = 0.0;
   int id_switches = 0;
 };
@@ -169,6 +170,7 @@ TruthScore score(const std::vector<objects_t>& objects, const std::vector<ground
       const bool settled = ++run > kSettledFrames;
       if (sheep.x_mm < 30 || sheep.y_mm < 30 || sheep.x_mm > 1189 || sheep.y_mm > 884) continue;
       ++s.sheep_frames;
+      s.settled_sheep_frames += settled;
       const object_t* best = nullptr;
       double best_d = 1e9;
       for (const auto& o : objs.objects) {
@@ -296,15 +298,18 @@ TEST_F(ReplayTest, ReplayedTracksMeetTheTrackingTargetsAgainstGroundTruth) {
       s.settled_frames, s.settled_max_error_px, s.id_switches);
   EXPECT_GE(s.frames, kRecordedObjects);
   EXPECT_GT(s.sheep_frames, 3 * kRecordedObjects);  // 4 sheep, most of them away from the edge
-  EXPECT_EQ(s.tracked, s.sheep_frames);
   EXPECT_EQ(s.id_switches, 0);
-  // The 1 px target holds for settled tracks; a mark coming out from under
-  // the arm is tracked within a few px until its track settles (measured:
-  // up to 3.3 px, below 1 px after about 0.5-1.1 s).
+  // Every object reported visible is within 1 px of its sheep. A mark coming
+  // out from under the arm (ground truth calls it visible from half shown)
+  // is reported obscured until nearly whole (ephor-worldmodel
+  // --mark-diameter-mm): its centroid is off by up to the mark's radius
+  // until then. Settled sheep (visible 1.5 s, or since the start) are all
+  // tracked; all visible sheep nearly all.
+  EXPECT_LE(s.max_error_px, 1.0);
+  EXPECT_EQ(s.settled_frames, s.settled_sheep_frames);
   EXPECT_GT(s.settled_frames, 2 * kRecordedObjects);
-  EXPECT_LE(s.settled_max_error_px, 1.0);
+  EXPECT_GE(s.tracked, 0.9 * s.sheep_frames);
   EXPECT_LT(s.sum_error_px / s.tracked, 0.3);
-  EXPECT_LE(s.max_error_px, 5.0);
 }
 
 TEST_F(ReplayTest, DroppedDuplicatedAndReorderedFramesAreHandled) {
@@ -347,7 +352,8 @@ TEST_F(ReplayTest, DroppedDuplicatedAndReorderedFramesAreHandled) {
       "switches\n",
       replayed.size(), s.tracked, s.sheep_frames, s.max_error_px, s.id_switches);
   EXPECT_EQ(s.id_switches, 0);
-  EXPECT_EQ(s.tracked, s.sheep_frames);
+  EXPECT_EQ(s.settled_frames, s.settled_sheep_frames);
+  EXPECT_GE(s.tracked, 0.9 * s.sheep_frames);
 }
 
 }  // namespace
