@@ -108,8 +108,6 @@ int main(int argc, char** argv) {
   std::string lcm_url;
   app.add_option("manifest", manifest_path, "deployment manifest, e.g. deploy/shepherd.pbtxt")
       ->required();
-  app.add_option("command", command_word, "start, stop or restart (default: live view)");
-  app.add_option("target", target, "process name, or all");
   app.add_flag("--wait-running", wait_running,
                "exit 0 as soon as every process runs (1 after --timeout)");
   app.add_option("--timeout", timeout_s,
@@ -123,8 +121,30 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", lcm_url,
                  "LCM URL (default: $LCM_DEFAULT_URL, else the manifest's lcm settings)");
   app.allow_extras();
-  app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
+  app.footer(
+      "Then optionally a command: start|stop|restart NAME|all.\n"
+      "Any other --NAME VALUE sets a parameter the manifest declares.");
   CLI11_PARSE(app, argc, argv);
+  // The command words and the manifest's parameters come after CLI11's own
+  // options: --NAME VALUE pairs are parameters, the other words the command.
+  std::vector<std::string> param_words;
+  std::vector<std::string> command_words;
+  const auto rest = app.remaining();
+  for (size_t i = 0; i < rest.size(); ++i) {
+    if (rest[i].rfind("--", 0) == 0) {
+      param_words.push_back(rest[i]);
+      if (rest[i].find('=') == std::string::npos && i + 1 < rest.size())
+        param_words.push_back(rest[++i]);
+    } else {
+      command_words.push_back(rest[i]);
+    }
+  }
+  if (command_words.size() > 2) {
+    std::fprintf(stderr, "[sheriff] unexpected argument '%s'\n", command_words[2].c_str());
+    return 2;
+  }
+  if (!command_words.empty()) command_word = command_words[0];
+  if (command_words.size() > 1) target = command_words[1];
 
   std::optional<Command> command;
   if (!command_word.empty()) {
@@ -138,7 +158,7 @@ int main(int argc, char** argv) {
   SheriffOptions options;
   try {
     manifest = load_manifest(manifest_path);
-    options.params = manifest_params(manifest, app.remaining());
+    options.params = manifest_params(manifest, param_words);
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "[sheriff] bad manifest: %s\n", e.what());
     return 2;

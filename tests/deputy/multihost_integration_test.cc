@@ -1,0 +1,267 @@
+// The two-machine procedure of procs/deputy/README.md, with machines made of
+// network namespaces: hosts "planning" and "arm" each in a namespace of its
+// own (tests/deputy/host-netns), joined by veth pairs to a bridge in the
+// test's namespace, where the sheriff runs (the "anywhere" machine). LCM
+// crosses between them only with ttl=1, as on a real LAN.
+
+#include <signal.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <regex>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/runtime/channels.h"
+#include "common/time/clock.h"
+#include "ephor/arm_ack_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/deputy_status_t.hpp"
+#include "tests/integration/harness.h"
+
+namespace ephor::testing {
+namespace {
+
+using std::chrono::seconds;
+
+// Newest deputy_status_t per host and counts of other channels.
+class Watch {
+ public:
+  explicit Watch(const std::string& url) : bus_(url, "test") {
+    bus_.subscribe<deputy_status_t>(channels::kDeputyStatus, [this](const deputy_status_t& s) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      latest_[s.host] = s;
+    });
+    bus_.subscribe<arm_state_t>("ARM_STATE", [this](const arm_state_t&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++arm_states_;
+    });
+    bus_.subscribe<arm_ack_t>("ARM_ACK", [this](const arm_ack_t&) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ++arm_acks_;
+    });
+    bus_.start();
+  }
+  ~Watch() { bus_.stop(); }
+  std::optional<deputy_process_status_t> process(const std::string& host, const std::string& name) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = latest_.find(host);
+    if (it == latest_.end()) return std::nullopt;
+    for (const auto& p : it->second.processes)
+      if (p.name == name) return p;
+    return std::nullopt;
+  }
+  int32_t deputy_pid(const std::string& host) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = latest_.find(host);
+    return it == latest_.end() ? 0 : it->second.deputy_pid;
+  }
+  bool running(const std::string& host, const std::string& name) {
+    auto p = process(host, name);
+    return p && p->state == "running" && p->pid > 0;
+  }
+  int64_t arm_states() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return arm_states_;
+  }
+  int64_t arm_acks() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return arm_acks_;
+  }
+
+ private:
+  Bus bus_;
+  std::mutex mutex_;
+  std::map<std::string, deputy_status_t> latest_;
+  int64_t arm_states_ = 0;
+  int64_t arm_acks_ = 0;
+};
+
+void run(const std::string& command) { ASSERT_EQ(std::system(command.c_str()), 0) << command; }
+
+// The LAN: bridge br0 in the test's namespace (10.77.0.1), multicast routed
+// onto it. Machines join it with tests/deputy/host-netns.
+class Lan : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    run("ip link add br0 type bridge mcast_snooping 0 && ip link set br0 up && "
+        "ip addr add 10.77.0.1/24 dev br0 && ip route replace 224.0.0.0/4 dev br0");
+  }
+  // Starts `args` on machine `name` (a new namespace at `address`).
+  static void start_on(Processes& p, const std::string& label, const std::string& name,
+                       const std::string& address, std::vector<std::string> args) {
+    args.insert(args.begin(), {"br0", name, address});
+    p.start(label, source_path("tests/deputy/host-netns"), args);
+  }
+};
+
+std::optional<launcher::ExitInfo> exit_of(const Processes& p, const std::string& name) {
+  for (const auto& e : p.exits())
+    if (e.name == name) return e;
+  return std::nullopt;
+}
+
+int run_to_end(Processes& p, const std::string& name, const std::vector<std::string>& args,
+               int timeout_s = 60) {
+  p.start(name, bin("ephor-sheriff"), args);
+  if (!wait_until([&] { return exit_of(p, name).has_value(); }, seconds(timeout_s))) return -1;
+  const auto e = exit_of(p, name);
+  return e->signaled ? 128 + e->code : e->code;
+}
+
+constexpr const char* kSmall = R"pb(
+  name: "lan_test"
+  lcm { port: 7716 ttl: TTL }
+  host { name: "planning" }
+  host { name: "arm" }
+  process {
+    name: "ticker"
+    host: "planning"
+    exec: "ephor-testtask"
+    args: [ "--task", "periodic:lan_tick:20" ]
+  }
+  process {
+    name: "mover"
+    host: "arm"
+    exec: "ephor-testtask"
+    args: [ "--task", "periodic:lan_move:10" ]
+  }
+)pb";
+
+std::string small_manifest(int ttl) {
+  return std::regex_replace(kSmall, std::regex("TTL"), std::to_string(ttl));
+}
+
+TEST_F(Lan, TtlZeroStaysOnTheMachine) {
+  // Deputies on ttl=0 are heard on their own machine only: the sheriff on
+  // the other side of the bridge hears none and says so.
+  const std::string url = "udpm://239.255.76.67:7716?ttl=0";
+  const std::string m = write_temp_file("lan0.pbtxt", small_manifest(0));
+  Processes p;
+  start_on(p, "deputy_arm", "arm0", "10.77.0.13",
+           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url});
+  ASSERT_TRUE(
+      wait_until([&] { return p.has_line("deputy_arm", "waiting for orders"); }, seconds(10)));
+  EXPECT_EQ(run_to_end(p, "sheriff", {m, "--wait-running", "--timeout", "3"}), 1);
+  EXPECT_TRUE(p.has_line("sheriff", "host arm: no deputy heard yet"));
+  EXPECT_FALSE(p.has_line("deputy_arm", "started"));
+}
+
+TEST_F(Lan, TwoMachinesRunTheManifestAndSurviveAKilledDeputy) {
+  const std::string url = "udpm://239.255.76.67:7716?ttl=1";
+  const std::string m = write_temp_file("lan1.pbtxt", small_manifest(1));
+  Processes p;
+  Watch watch(url);
+  // README step 1 and 2: a deputy on each machine.
+  start_on(p, "deputy_planning", "planning1", "10.77.0.2",
+           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--grace", "0.5"});
+  start_on(p, "deputy_arm", "arm1", "10.77.0.3",
+           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--grace", "0.5"});
+  // README step 3: the sheriff anywhere; the URL comes from the manifest.
+  ASSERT_EQ(run_to_end(p, "up", {m, "--wait-running", "--timeout", "20"}), 0);
+  EXPECT_TRUE(p.has_line("up", "LCM udpm://239.255.76.67:7716?ttl=1"));
+  EXPECT_TRUE(watch.running("arm", "mover"));
+  EXPECT_TRUE(watch.running("planning", "ticker"));
+
+  // kill -9 on the arm machine: restarted within 1 s.
+  const int32_t victim = watch.process("arm", "mover")->pid;
+  const int64_t t0 = mono_ns();
+  ASSERT_EQ(kill(victim, SIGKILL), 0);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto s = watch.process("arm", "mover");
+        return s && s->state == "running" && s->pid != victim;
+      },
+      seconds(5)));
+  const double restart_s = static_cast<double>(mono_ns() - t0) * 1e-9;
+  std::fprintf(stderr, "across the LAN: kill -9 to running again: %.3f s\n", restart_s);
+  EXPECT_LT(restart_s, 1.0);
+
+  // The arm machine's deputy dies: the live sheriff reports it within 3 s.
+  p.start("sheriff", bin("ephor-sheriff"), {m});
+  ASSERT_TRUE(wait_until([&] { return p.has_line("sheriff", "PROCESS"); }, seconds(10)));
+  const int32_t dead = watch.deputy_pid("arm");
+  const int64_t t1 = mono_ns();
+  ASSERT_EQ(kill(dead, SIGKILL), 0);
+  ASSERT_TRUE(
+      wait_until([&] { return p.has_line("sheriff", "host arm: deputy lost"); }, seconds(5)));
+  const double lost_s = static_cast<double>(mono_ns() - t1) * 1e-9;
+  std::fprintf(stderr, "across the LAN: deputy killed to sheriff report: %.3f s\n", lost_s);
+  EXPECT_LT(lost_s, 3.0);
+
+  // The machine comes back (a new deputy): the sheriff's orders bring its
+  // process back, once.
+  start_on(p, "deputy_arm2", "arm2", "10.77.0.4",
+           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--grace", "0.5"});
+  ASSERT_TRUE(
+      wait_until([&] { return watch.deputy_pid("arm") != dead && watch.running("arm", "mover"); },
+                 seconds(15)));
+  EXPECT_TRUE(
+      wait_until([&] { return p.has_line("sheriff", "host arm: deputy back"); }, seconds(5)));
+  EXPECT_EQ(watch.process("planning", "ticker")->restarts, 0);
+}
+
+// deploy/shepherd.pbtxt as the README runs it on two machines: the manifest's
+// lcm line set to ttl: 1, the arm on the "arm" machine, the rest on
+// "planning", the sheriff on a third.
+TEST_F(Lan, ShepherdAcrossTwoMachines) {
+  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string lan_text = std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1");
+  ASSERT_NE(lan_text.find("ttl: 1"), std::string::npos);
+  const std::string m = write_temp_file("shepherd_lan.pbtxt", lan_text);
+  const std::string summary = write_temp_file("shepherd_lan_summary.json", "");
+  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  Processes p;
+  Watch watch(url);
+  start_on(p, "deputy_planning", "planning3", "10.77.0.22",
+           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--quiet"});
+  start_on(p, "deputy_arm", "arm3", "10.77.0.23",
+           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--quiet"});
+  ASSERT_EQ(run_to_end(p, "up",
+                       {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
+                        "--sheep", "1", "--summary", summary}),
+            0);
+  // The arm (on its machine) publishes ARM_STATE; it reaches this one.
+  ASSERT_TRUE(wait_until([&] { return watch.arm_states() > 100; }, seconds(10)));
+
+  // kill -9 of the arm process: restarted within 1 s, and its state flows again.
+  const int32_t victim = watch.process("arm", "arm")->pid;
+  const int64_t t0 = mono_ns();
+  ASSERT_EQ(kill(victim, SIGKILL), 0);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        auto s = watch.process("arm", "arm");
+        return s && s->state == "running" && s->pid != victim;
+      },
+      seconds(5)));
+  const double restart_s = static_cast<double>(mono_ns() - t0) * 1e-9;
+  const int64_t before = watch.arm_states();
+  ASSERT_TRUE(wait_until([&] { return watch.arm_states() > before + 100; }, seconds(10)));
+  std::fprintf(stderr, "shepherd across the LAN: arm kill -9 to running again: %.3f s\n",
+               restart_s);
+  EXPECT_LT(restart_s, 1.0);
+
+  // The planner (planning machine) sends the arm (arm machine) somewhere
+  // through comm: the arm acknowledges a command across the LAN.
+  const int64_t acks = watch.arm_acks();
+  EXPECT_TRUE(wait_until([&] { return watch.arm_acks() > acks; }, seconds(40)));
+  // Stop all: the monitor writes its summary.
+  ASSERT_EQ(run_to_end(p, "down", {m, "stop", "all", "--timeout", "20"}), 0);
+  nlohmann::json s;
+  std::ifstream(summary) >> s;
+  std::fprintf(stderr, "summary: %s\n", s.dump().c_str());
+  EXPECT_GE(s["arm_commands"].get<int>(), 1);  // planner (planning) -> comm -> arm (arm machine)
+  EXPECT_GE(s["vision_rate_hz"].get<double>(), 25.0);
+  EXPECT_TRUE(s["scheduler_seen"].get<bool>());
+}
+
+}  // namespace
+}  // namespace ephor::testing
