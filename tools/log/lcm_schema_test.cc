@@ -5,14 +5,12 @@
 #include <gtest/gtest.h>
 
 #include "tools/log/all_lcm_types.h"
+#include "tools/log/repo_schema_for_tests.h"
 
 namespace ephor::logtools {
 namespace {
 
-std::string types_dir() {
-  const char* src = std::getenv("EPHOR_SOURCE_DIR");
-  return std::string(src != nullptr ? src : ".") + "/lcmtypes";
-}
+std::string types_dir() { return repo_lcmtypes_dir(); }
 
 // The decoder finds a message's type by its fingerprint: it must equal what
 // lcm-gen put into the C++ types, for every one of our types.

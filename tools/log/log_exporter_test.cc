@@ -12,16 +12,12 @@
 #include "ephor/ground_truth_t.hpp"
 #include "ephor/objects_t.hpp"
 
+#include "tools/log/repo_schema_for_tests.h"
+
 namespace ephor::logtools {
 namespace {
 
-const LcmSchema& schema() {
-  static const LcmSchema s = [] {
-    const char* src = std::getenv("EPHOR_SOURCE_DIR");
-    return LcmSchema::load_directory(std::string(src != nullptr ? src : ".") + "/lcmtypes");
-  }();
-  return s;
-}
+const LcmSchema& schema() { return repo_schema(); }
 
 template <typename T>
 void write(lcm::LogFile& log, int64_t t_us, const std::string& channel, const T& msg) {

@@ -11,16 +11,12 @@
 #include "ephor/objects_t.hpp"
 #include "ephor/task_jobs_t.hpp"
 
+#include "tools/log/repo_schema_for_tests.h"
+
 namespace ephor::logtools {
 namespace {
 
-const LcmSchema& schema() {
-  static const LcmSchema s = [] {
-    const char* src = std::getenv("EPHOR_SOURCE_DIR");
-    return LcmSchema::load_directory(std::string(src != nullptr ? src : ".") + "/lcmtypes");
-  }();
-  return s;
-}
+const LcmSchema& schema() { return repo_schema(); }
 
 template <typename T>
 std::vector<uint8_t> encode(const T& msg) {
