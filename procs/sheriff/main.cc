@@ -178,19 +178,20 @@ int main(int argc, char** argv) {
     Sheriff sheriff(manifest, options);
     Bus bus(options.lcm_url, "sheriff");
     std::mutex status_mutex;
-    std::deque<deputy_status_t> statuses;
+    std::deque<std::pair<deputy_status_t, int64_t>> statuses;  // with receive wall time, us
     bus.subscribe<deputy_status_t>(channels::kDeputyStatus, [&](const deputy_status_t& s) {
+      const int64_t received_us = wall_us();
       std::lock_guard<std::mutex> lock(status_mutex);
-      statuses.push_back(s);
+      statuses.emplace_back(s, received_us);
     });
     bus.start();
     auto drain_status = [&] {
-      std::deque<deputy_status_t> batch;
+      std::deque<std::pair<deputy_status_t, int64_t>> batch;
       {
         std::lock_guard<std::mutex> lock(status_mutex);
         batch.swap(statuses);
       }
-      for (const auto& s : batch) sheriff.on_status(s, mono_ns());
+      for (const auto& [s, received_us] : batch) sheriff.on_status(s, mono_ns(), received_us);
       return !batch.empty();
     };
 

@@ -105,9 +105,15 @@ bool Sheriff::host_alive(const HostView& host, int64_t now_ns) const {
   return host.last_status_ns >= 0 && now_ns - host.last_status_ns < options_.lost_after_ns;
 }
 
-void Sheriff::on_status(const deputy_status_t& status, int64_t now_ns) {
+void Sheriff::on_status(const deputy_status_t& status, int64_t now_ns, int64_t receive_wall_us) {
   HostView* host = find_host(status.host);
   if (host == nullptr) return;
+  if (receive_wall_us > 0 && status.utime > 0) {
+    auto& recent = host->recent_offsets_us;
+    recent.push_back(receive_wall_us - status.utime);
+    if (recent.size() > 10) recent.erase(recent.begin());
+    host->offset_plus_delay_us = *std::min_element(recent.begin(), recent.end());
+  }
   host->last_status_ns = now_ns;
   host->deputy_pid = status.deputy_pid;
   host->orders_from = status.sheriff;
@@ -272,6 +278,13 @@ std::string Sheriff::table(int64_t now_ns) const {
     for (const auto& p : processes_) any = any || p.host == h.name;
     if (!any) continue;
     const bool alive = host_alive(h, now_ns);
+    if (alive && h.offset_plus_delay_us != 0) {
+      std::snprintf(line, sizeof line,
+                    "%s: deputy pid %d, load %.2f, clock offset + delay %+.1f ms\n", h.name.c_str(),
+                    h.deputy_pid, static_cast<double>(h.load),
+                    static_cast<double>(h.offset_plus_delay_us) * 1e-3);
+      out += line;
+    }
     if (!alive) {
       out += h.name + ": " +
              (h.last_status_ns < 0

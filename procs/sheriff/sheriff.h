@@ -51,6 +51,11 @@ struct HostView {
   std::string orders_from;  // sheriff whose orders the deputy runs
   float load = 0.0f;        // 1-minute load average
   bool lost = false;        // reported lost (edge-triggered events)
+  // Receive wall time minus the status's send time (deputy's clock), us:
+  // the host's clock offset plus the one-way delay. Minimum over the newest
+  // 10 status messages (the least delayed one); 0 when unknown.
+  int64_t offset_plus_delay_us = 0;
+  std::vector<int64_t> recent_offsets_us;
 };
 
 class Sheriff {
@@ -59,8 +64,10 @@ class Sheriff {
   // "scheduler" while deputies run the scheduler (the names would clash).
   Sheriff(config::Manifest manifest, SheriffOptions options);
 
-  // A deputy's status. Hosts the manifest does not name are ignored.
-  void on_status(const deputy_status_t& status, int64_t now_ns);
+  // A deputy's status, received at `now_ns` (monotonic) and, when known,
+  // `receive_wall_us` (this machine's wall clock, for the clock offset).
+  // Hosts the manifest does not name are ignored.
+  void on_status(const deputy_status_t& status, int64_t now_ns, int64_t receive_wall_us = 0);
 
   // Sets the desired state from what the deputies report: a process a deputy
   // knows keeps its reported desired state and run; any other process gets

@@ -164,6 +164,20 @@ TEST(Sheriff, AVanishedDeputyIsReportedOnceAndItsReturnToo) {
   EXPECT_EQ(back[0], "host arm: deputy back (pid 7)");
 }
 
+TEST(Sheriff, ClockOffsetPlusDelayIsTheLeastDelayedStatus) {
+  Sheriff s = make();
+  auto st = status("arm", {row("arm", "running")});
+  st.utime = 1'000'000;
+  s.on_status(st, 0, 1'000'000 + 5'000);  // 5 ms (offset + delay)
+  st.utime = 2'000'000;
+  s.on_status(st, 1 * kS, 2'000'000 + 3'000);  // 3 ms: the least delayed
+  st.utime = 3'000'000;
+  s.on_status(st, 2 * kS, 3'000'000 + 9'000);
+  EXPECT_EQ(s.hosts()[1].offset_plus_delay_us, 3'000);
+  EXPECT_NE(s.table(2 * kS).find("arm: deputy pid 7, load 0.00, clock offset + delay +3.0 ms"),
+            std::string::npos);
+}
+
 TEST(Sheriff, OneShotOrdersSkipHostsNeverHeard) {
   Sheriff s = make();
   s.on_status(status("arm", {row("arm", "running")}), 0);
