@@ -42,6 +42,8 @@ std::map<std::string, std::string> manifest_params(const config::Manifest& manif
       name = name.substr(0, eq);
     } else if (i + 1 < overrides.size()) {
       value = overrides[++i];
+    } else {
+      throw std::invalid_argument("--" + name + " needs a value");
     }
     if (!params.count(name)) {
       std::string known;

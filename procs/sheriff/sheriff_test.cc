@@ -191,6 +191,7 @@ TEST(Sheriff, OneShotOrdersSkipHostsNeverHeard) {
 TEST(Sheriff, ParametersAndNamesAreChecked) {
   EXPECT_THROW(manifest_params(manifest(), {"--nope", "1"}), std::invalid_argument);
   EXPECT_THROW(manifest_params(manifest(), {"stray"}), std::invalid_argument);
+  EXPECT_THROW(manifest_params(manifest(), {"--period"}), std::invalid_argument);
   EXPECT_EQ(manifest_params(manifest(), {"--period=7"}).at("period"), "7");
   auto m = parse_manifest(R"pb(name: "x"
                                process { name: "scheduler" exec: "a" })pb",
