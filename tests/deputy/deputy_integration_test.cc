@@ -20,6 +20,7 @@
 #include "common/lcm/bus.h"
 #include "common/runtime/channels.h"
 #include "common/time/clock.h"
+#include "ephor/deputy_output_t.hpp"
 #include "ephor/deputy_status_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -67,9 +68,21 @@ class StatusWatch {
       std::lock_guard<std::mutex> lock(mutex_);
       latest_[s.host] = s;
     });
+    bus_.subscribe<deputy_output_t>(channels::kDeputyOutput, [this](const deputy_output_t& o) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (size_t i = 0; i < o.lines.size() && i < o.processes.size(); ++i)
+        output_.push_back(o.host + "/" + o.processes[i] + ": " + o.lines[i]);
+    });
     bus_.start();
   }
   ~StatusWatch() { bus_.stop(); }
+  // True when a published output line "HOST/PROCESS: ..." contains `text`.
+  bool output_has(const std::string& text) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& l : output_)
+      if (l.find(text) != std::string::npos) return true;
+    return false;
+  }
   std::optional<deputy_process_status_t> process(const std::string& host, const std::string& name) {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = latest_.find(host);
@@ -92,6 +105,7 @@ class StatusWatch {
   Bus bus_;
   std::mutex mutex_;
   std::map<std::string, deputy_status_t> latest_;
+  std::vector<std::string> output_;
 };
 
 // Live processes whose command line contains `marker` (this test's only);
@@ -162,6 +176,10 @@ TEST(Deputy, SheriffBringsUpTwoHostsAndCrashesAreRestartedWithinOneSecond) {
   ASSERT_TRUE(wait_until(
       [&] { return p.has_line("deputy_planning", "scheduling 1 task(s) of host 'planning'"); },
       seconds(5)));
+
+  // The processes' output is published, line by line, with host and process.
+  EXPECT_TRUE(wait_until([&] { return status.output_has("arm/mover: "); }, seconds(5)));
+  EXPECT_TRUE(status.output_has("running 1 task(s) on host arm"));
 
   // kill -9: restarted within 1 s, with the reason kept.
   const int32_t victim = status.process("arm", "mover")->pid;
