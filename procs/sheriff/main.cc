@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
                  "seconds a command or --wait-running may take before exiting 1")
       ->check(CLI::PositiveNumber);
   app.add_option("--listen", listen_s,
-                 "seconds to listen to the deputies before sending orders (status is 1 Hz)")
+                 "seconds to listen to the deputies before sending orders (status is 4 Hz)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--headless", headless, "user-interface processes (gui: true) start stopped");
   app.add_flag("--no-scheduler", no_scheduler, "deputies do not run ephor-scheduler");

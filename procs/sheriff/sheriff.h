@@ -29,7 +29,7 @@ struct SheriffOptions {
   bool start_scheduler = true;                // deputies run each host's ephor-scheduler
   std::string lcm_url;                        // given to every process
   std::string id = "sheriff";                 // shown by deputies, e.g. "sheriff@lab1:4242"
-  int64_t lost_after_ns = 2'500'000'000;      // no status for this long: host lost (1 Hz status)
+  int64_t lost_after_ns = 2'500'000'000;      // no status for this long: host lost (4 Hz status)
 };
 
 enum class Command { kStart, kStop, kRestart };
