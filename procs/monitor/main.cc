@@ -99,11 +99,13 @@ int main(int argc, char** argv) {
     while (wait_for_shutdown_signal(every_s > 0 ? every_s : 3600.0) == 0) {
       if (every_s <= 0) continue;
       std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& e : mon.take_events()) spdlog::info("{}", e);
       spdlog::info("{}", mon.status_line(wall_us()));
     }
     bus.stop();
     std::lock_guard<std::mutex> lock(mutex);
     const auto summary = mon.summary(wall_us());
+    for (const auto& e : mon.take_events()) spdlog::info("{}", e);
     spdlog::info("final: {}", mon.status_line(wall_us()));
     if (!summary_path.empty()) {
       std::ofstream out(summary_path);

@@ -1,5 +1,7 @@
 #include "procs/monitor/run_monitor.h"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -79,7 +81,13 @@ void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us,
   if (truth == nullptr)
     return;  // no ground truth for this frame (real camera, or not yet received)
   for (const auto& s : truth->sheep) {
-    if (!s.visible || !s.on_field) continue;
+    if (!s.on_field) {
+      // An escaped sheep re-enters under its old truth id, but for the
+      // tracker it is a new sheep: its next object is not a switch.
+      matched_.erase(s.id);
+      continue;
+    }
+    if (!s.visible) continue;
     const TrackedObject* best = nullptr;
     double best_d = match_radius_mm_;
     for (const auto& o : objects) {
@@ -92,13 +100,30 @@ void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us,
     }
     if (best == nullptr) continue;
     auto it = matched_.find(s.id);
-    if (it != matched_.end() && it->second != best->id) ++id_switches_;
+    if (it != matched_.end() && it->second != best->id) {
+      ++id_switches_;
+      const int32_t old_id = it->second;
+      std::string was = "gone from OBJECTS";
+      for (const auto& o : objects)
+        if (o.id == old_id)
+          was = o.dead ? "dead" : fmt::format("at ({:.0f}, {:.0f}) mm, {}", o.x_mm, o.y_mm,
+                                              o.visible ? "visible" : "obscured");
+      events_.push_back(fmt::format(
+          "id switch: sheep {} at ({:.0f}, {:.0f}) mm ({:.1f} s) was object {} ({}), now object {}",
+          s.id, s.x_mm, s.y_mm, truth->sim_time_s, old_id, was, best->id));
+    }
     matched_[s.id] = best->id;
     if (best->visible) {
       err_sq_sum_ += (best->u - s.u) * (best->u - s.u) + (best->v - s.v) * (best->v - s.v);
       ++err_n_;
     }
   }
+}
+
+std::vector<std::string> RunMonitor::take_events() {
+  std::vector<std::string> out;
+  out.swap(events_);
+  return out;
 }
 
 void RunMonitor::on_arm_command(int64_t source_frame_utime, int64_t sent_us) {

@@ -87,6 +87,9 @@ class RunMonitor {
 
   Summary summary(int64_t now_us) const;
   std::string status_line(int64_t now_us) const;
+  // What happened since the last call, one line each, for the log: every id
+  // switch, with where the sheep was and what became of the object it had.
+  std::vector<std::string> take_events();
 
  private:
   std::string scenario_;
@@ -96,6 +99,7 @@ class RunMonitor {
   Truth last_truth_;
   std::map<int32_t, int32_t> matched_;  // truth id -> object id
   int64_t id_switches_ = 0;
+  std::vector<std::string> events_;
   double err_sq_sum_ = 0;
   int64_t err_n_ = 0;
   std::deque<int64_t> blob_times_, object_times_;  // receive times in the last 5 s

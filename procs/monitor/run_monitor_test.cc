@@ -33,6 +33,27 @@ TEST(RunMonitor, CountsAnIdSwitchWhenTheMatchedObjectChanges) {
   m.on_truth(truth_at(3000, 120, 100));
   m.on_objects(3000, 0, {obj(9, 120, 101)}, 3000);  // same sheep, new id
   EXPECT_EQ(m.summary(3000).id_switches, 1);
+  // The log says which sheep, where, and that object 7 vanished.
+  const auto events = m.take_events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].find("sheep"), std::string::npos) << events[0];
+  EXPECT_NE(events[0].find("was object 7 (gone from OBJECTS), now object 9"), std::string::npos)
+      << events[0];
+  EXPECT_TRUE(m.take_events().empty());
+}
+
+TEST(RunMonitor, ASheepThatEscapedAndReenteredIsANewSheep) {
+  RunMonitor m("test");
+  m.on_truth(truth_at(1000, 100, 100));
+  m.on_objects(1000, 0, {obj(7, 100, 100)}, 1000);
+  Truth gone = truth_at(2000, -50, 100);
+  gone.sheep[0].on_field = false;
+  m.on_truth(gone);
+  m.on_objects(2000, 0, {}, 2000);
+  m.on_truth(truth_at(3000, 5, 400));  // back through another edge, same truth id
+  m.on_objects(3000, 0, {obj(12, 5, 400)}, 3000);
+  EXPECT_EQ(m.summary(3000).id_switches, 0);
+  EXPECT_TRUE(m.take_events().empty());
 }
 
 TEST(RunMonitor, HiddenSheepAndFarObjectsAreNotMatched) {
