@@ -106,8 +106,9 @@ void RunMonitor::on_objects(int64_t frame_utime, int64_t published_us,
       std::string was = "gone from OBJECTS";
       for (const auto& o : objects)
         if (o.id == old_id)
-          was = o.dead ? "dead" : fmt::format("at ({:.0f}, {:.0f}) mm, {}", o.x_mm, o.y_mm,
-                                              o.visible ? "visible" : "obscured");
+          was = o.dead ? "dead"
+                       : fmt::format("at ({:.0f}, {:.0f}) mm, {}", o.x_mm, o.y_mm,
+                                     o.visible ? "visible" : "obscured");
       events_.push_back(fmt::format(
           "id switch: sheep {} at ({:.0f}, {:.0f}) mm ({:.1f} s) was object {} ({}), now object {}",
           s.id, s.x_mm, s.y_mm, truth->sim_time_s, old_id, was, best->id));
