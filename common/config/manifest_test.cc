@@ -52,7 +52,8 @@ TEST(Manifest, GoodFileLoadsWithDefaults) {
 
 TEST(Manifest, NoHostsMeansOneLocalHost) {
   const auto m = parse_manifest(R"pb(name: "x"
-                                     process { name: "a" exec: "b" })pb", "x");
+                                     process { name: "a" exec: "b" })pb",
+                                "x");
   ASSERT_EQ(manifest_hosts(m), std::vector<std::string>{"local"});
   EXPECT_EQ(m.process(0).host(), "local");
 }
@@ -110,13 +111,15 @@ TEST(Manifest, RejectsBadValues) {
                           })pb"),
             "");
   EXPECT_NE(error_of(R"pb(name: "x"
-                          process { name: "a" exec: "b" host: "nowhere" })pb"), "");
+                          process { name: "a" exec: "b" host: "nowhere" })pb"),
+            "");
   EXPECT_NE(error_of(R"pb(name: "x"
                           process { name: "a" exec: "b" }
                           process { name: "a" exec: "c" })pb"),
             "");
   EXPECT_NE(error_of(R"pb(name: "x"
-                          lcm { ttl: 4 })pb"), "");
+                          lcm { ttl: 4 })pb"),
+            "");
   EXPECT_NE(error_of(R"pb(process { name: "a" exec: "b" })pb"), "");
 }
 
@@ -140,9 +143,11 @@ TEST(Manifest, ParametersExpandInArgsAndEmptyOnesDropTheArg) {
                             name: "a"
                             exec: "b"
                             args: [ "--n=${nope}" ]
-                          })pb"), "");
+                          })pb"),
+            "");
   EXPECT_NE(error_of(R"pb(name: "x"
-                          param { name: "Bad Name" })pb"), "");
+                          param { name: "Bad Name" })pb"),
+            "");
 }
 
 TEST(Manifest, MissingFileIsNamed) {

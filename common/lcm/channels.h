@@ -22,7 +22,7 @@ inline constexpr const char* kArmState = "ARM_STATE";  // arm_state_t, arm -> ev
 inline constexpr const char* kArmTrajectory =
     "ARM_TRAJECTORY";                                      // joint_trajectory_t, arm -> servo (sim)
 inline constexpr const char* kArmServo = "ARM_SERVO";      // joint_state_t, servo (sim) -> arm
-inline constexpr const char* kEstop = "ESTOP";  // estop_t, anyone -> arm (latched stop)
+inline constexpr const char* kEstop = "ESTOP";             // estop_t, anyone -> arm (latched stop)
 inline constexpr const char* kPlannerCmd = "PLANNER_CMD";  // planner_cmd_t, display -> planner
 inline constexpr const char* kDisplayBox =
     "DISPLAY_BOX";  // display_box_t, display -> calibration tools
