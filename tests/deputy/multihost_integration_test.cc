@@ -24,6 +24,7 @@
 #include "ephor/arm_ack_t.hpp"
 #include "ephor/arm_state_t.hpp"
 #include "ephor/deputy_status_t.hpp"
+#include "ephor/ground_truth_t.hpp"
 #include "ephor/objects_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -47,6 +48,12 @@ class Watch {
     bus_.subscribe<objects_t>("OBJECTS", [this](const objects_t& o) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (o.num_objects > 0) ++tracked_;
+    });
+    bus_.subscribe<ground_truth_t>(channels::kGroundTruth, [this](const ground_truth_t& t) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      sim_time_s_ = t.sim_time_s;
+      escapes_ = t.escapes;
+      saves_ = t.saves;
     });
     bus_.subscribe<arm_ack_t>("ARM_ACK", [this](const arm_ack_t& a) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -91,6 +98,19 @@ class Watch {
     std::lock_guard<std::mutex> lock(mutex_);
     return arm_acks_;
   }
+  // The simulator's ground truth: simulated time (s), escapes and saves.
+  double sim_time_s() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return sim_time_s_;
+  }
+  int32_t escapes() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return escapes_;
+  }
+  int32_t saves() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return saves_;
+  }
 
  private:
   Bus bus_;
@@ -99,6 +119,9 @@ class Watch {
   int64_t arm_states_ = 0;
   int64_t arm_acks_ = 0;
   int64_t tracked_ = 0;
+  double sim_time_s_ = 0.0;
+  int32_t escapes_ = 0;
+  int32_t saves_ = 0;
   std::set<int64_t> acked_seqs_;
 };
 
@@ -300,6 +323,36 @@ TEST_F(Lan, ShepherdAcrossTwoMachines) {
   EXPECT_GE(s["arm_commands"].get<int>(), 1);  // planner (planning) -> comm -> arm (arm machine)
   EXPECT_GE(s["vision_rate_hz"].get<double>(), 25.0);
   EXPECT_TRUE(s["scheduler_seen"].get<bool>());
+}
+
+// The shepherding system across the two machines herds: 60 s of simulated
+// time with three sheep at the paper's speed (its Lego sheep moved 5-8 mm/s;
+// at the default 30 mm/s the arm cannot yet keep three or four, see the
+// README's Performance section) end with every sheep on the field.
+TEST_F(Lan, ThreeSheepStayOnTheFieldAcrossTwoMachines) {
+  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string m = write_temp_file(
+      "shepherd_herd.pbtxt", std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1"));
+  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  Processes p;
+  Watch watch(url);
+  start_on(p, "deputy_planning", "planning5", "10.77.0.42",
+           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--quiet"});
+  start_on(p, "deputy_arm", "arm5", "10.77.0.43",
+           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--quiet"});
+  ASSERT_EQ(run_to_end(p, "up",
+                       {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
+                        "--sheep", "3", "--sheep-speed", "8"}),
+            0);
+  ASSERT_TRUE(wait_until([&] { return watch.sim_time_s() >= 60.0; }, seconds(90)))
+      << "simulated time reached only " << watch.sim_time_s() << " s";
+  std::fprintf(stderr, "3 sheep across the LAN, 60 s: %d escapes, %d saves, %zu arm commands\n",
+               watch.escapes(), watch.saves(), watch.commands_acked());
+  EXPECT_EQ(watch.escapes(), 0);
+  EXPECT_GE(watch.commands_acked(), 1u);  // planner (planning) -> comm -> arm (arm machine)
+  ASSERT_EQ(run_to_end(p, "down", {m, "stop", "all", "--timeout", "20"}), 0);
 }
 
 // Item 5 of issue 6 on the deputies' side: 5 % packet loss each way on the
