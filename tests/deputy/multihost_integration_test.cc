@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
 #include "common/time/clock.h"
 #include "ephor/arm_ack_t.hpp"
