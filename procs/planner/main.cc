@@ -1,7 +1,7 @@
 // ephor-planner: the shepherd's executive (paper 003, section 3.4). Keeps the
 // newest OBJECTS and ARM_STATE, runs one planning job (triggered task "plan")
-// per objects update and per motion_done, and sends at most one ARM_GOAL at
-// a time, in image coordinates as the paper's planner did. Reports what it
+// per objects update (motion_done events are taken in by the next job), and
+// sends at most one ARM_GOAL at a time, in image coordinates as the paper's planner did. Reports what it
 // is doing on PLANNER_STATUS every job.
 //
 //   ephor-planner [--planner single|multi|lookahead] [--arm-speed-mm-s S]
@@ -321,7 +321,7 @@ int main(int argc, char** argv) {
                                     });
     bus.subscribe<ephor::motion_done_t>(
         ephor::channels::kMotionDone,
-        [done, &runtime, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {
+        [done, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {
           done->push(msg.goal_id, msg.status == ephor::motion_done_t::STATUS_DONE);
           // The first failures in full, then every 100th (a broken arm fails every goal).
           if (msg.status != ephor::motion_done_t::STATUS_DONE &&
@@ -329,7 +329,12 @@ int main(int argc, char** argv) {
             spdlog::warn("goal {} ended with status {}: {} ({} failed goals so far)", msg.goal_id,
                          static_cast<int>(msg.status), msg.reason, *failures);
           }
-          runtime.trigger("plan");  // send the next goal without waiting for objects
+          // No job here: the next goal is planned when the next OBJECTS
+          // arrives (at most one frame, 33 ms, later), so every goal comes
+          // from a frame newer than the motion it follows, its capture-to-
+          // command latency is the pipeline's, and with vision paused the
+          // arm stops after its current motion instead of acting on old
+          // objects.
         });
     runtime.start();
     spdlog::info("{} planner: {} -> {}", kind, ephor::channels::kObjects,

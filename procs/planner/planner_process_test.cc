@@ -125,9 +125,11 @@ TEST(PlannerProcess, SendsOneGoalAtATimeInImageCoordinates) {
   probe.bus().publish_raw(channels::kObjects, garbage, sizeof garbage);
   probe.bus().publish_raw(channels::kMotionDone, garbage, sizeof garbage);
 
-  // The arm got there: motion_done releases the next goal (lowering).
+  // The arm got there: motion_done, then the next frame's objects, release
+  // the next goal (lowering), planned from a frame newer than the motion.
   auto arm = arm_at(f.x(), f.y(), 200);
   probe.bus().publish(channels::kArmState, arm);
+  const int64_t after_motion_utime = utime + 100 * 33'333;
   ASSERT_TRUE(wait_until(
       [&] {
         motion_done_t done{};
@@ -136,12 +138,15 @@ TEST(PlannerProcess, SendsOneGoalAtATimeInImageCoordinates) {
         probe.bus().publish(channels::kMotionDone, done);
         auto s = arm_at(f.x(), f.y(), 200);
         probe.bus().publish(channels::kArmState, s);
+        auto m = objects(after_motion_utime, 395, 600);
+        probe.bus().publish(channels::kObjects, m);
         return probe.goals().size() >= 2;
       },
       seconds(10)))
       << "no second goal after motion_done";
   const arm_goal_t second = probe.goals()[1];
   EXPECT_GT(second.goal_id, first.goal_id);
+  EXPECT_EQ(second.source_frame_utime, after_motion_utime);
   EXPECT_EQ(static_cast<int>(second.plane), static_cast<int>(arm_goal_t::PLANE_OBJECT));
   EXPECT_EQ(second.target_object, 42);
   EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
