@@ -52,9 +52,7 @@ class Watch {
     });
     bus_.subscribe<ground_truth_t>(channels::kGroundTruth, [this](const ground_truth_t& t) {
       std::lock_guard<std::mutex> lock(mutex_);
-      sim_time_s_ = t.sim_time_s;
-      escapes_ = t.escapes;
-      saves_ = t.saves;
+      herd_ = {t.sim_time_s, t.escapes, t.saves};
     });
     bus_.subscribe<arm_ack_t>("ARM_ACK", [this](const arm_ack_t& a) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -99,18 +97,15 @@ class Watch {
     std::lock_guard<std::mutex> lock(mutex_);
     return arm_acks_;
   }
-  // The simulator's ground truth: simulated time (s), escapes and saves.
-  double sim_time_s() {
+  // The simulator's newest ground truth: simulated time (s), escapes and saves.
+  struct Herd {
+    double sim_time_s = 0.0;
+    int32_t escapes = 0;
+    int32_t saves = 0;
+  };
+  Herd herd() {
     std::lock_guard<std::mutex> lock(mutex_);
-    return sim_time_s_;
-  }
-  int32_t escapes() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return escapes_;
-  }
-  int32_t saves() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return saves_;
+    return herd_;
   }
 
  private:
@@ -120,9 +115,7 @@ class Watch {
   int64_t arm_states_ = 0;
   int64_t arm_acks_ = 0;
   int64_t tracked_ = 0;
-  double sim_time_s_ = 0.0;
-  int32_t escapes_ = 0;
-  int32_t saves_ = 0;
+  Herd herd_;
   std::set<int64_t> acked_seqs_;
 };
 
@@ -141,6 +134,21 @@ class Lan : public ::testing::Test {
                        const std::string& address, std::vector<std::string> args) {
     args.insert(args.begin(), {"br0", name, address});
     p.start(label, source_path("tests/deputy/host-netns"), args);
+  }
+  // The README's steps 1 and 2: machines "planning" and "arm" (namespaces
+  // planning<n> at 10.77.0.<10(n-1)+2> and arm<n> at the next address), a
+  // deputy on each (labels deputy_planning, deputy_arm), `extra` appended
+  // to both deputies' command lines.
+  static void start_two_machines(Processes& p, int n, const std::string& url,
+                                 const std::vector<std::string>& extra = {}) {
+    const int a = 10 * (n - 1) + 2;
+    for (const auto& [host, address] :
+         {std::pair{std::string("planning"), a}, std::pair{std::string("arm"), a + 1}}) {
+      std::vector<std::string> args = {bin("ephor-deputy"), "--host", host, "--lcm-url", url};
+      args.insert(args.end(), extra.begin(), extra.end());
+      start_on(p, "deputy_" + host, host + std::to_string(n), "10.77.0." + std::to_string(address),
+               args);
+    }
   }
 };
 
@@ -202,10 +210,7 @@ TEST_F(Lan, TwoMachinesRunTheManifestAndSurviveAKilledDeputy) {
   Processes p;
   Watch watch(url);
   // README step 1 and 2: a deputy on each machine.
-  start_on(p, "deputy_planning", "planning1", "10.77.0.2",
-           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--grace", "0.5"});
-  start_on(p, "deputy_arm", "arm1", "10.77.0.3",
-           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--grace", "0.5"});
+  start_two_machines(p, 1, url, {"--grace", "0.5"});
   // README step 3: the sheriff anywhere; the URL comes from the manifest.
   ASSERT_EQ(run_to_end(p, "up", {m, "--wait-running", "--timeout", "20"}), 0);
   EXPECT_TRUE(p.has_line("up", "LCM udpm://239.255.76.67:7716?ttl=1"));
@@ -250,24 +255,27 @@ TEST_F(Lan, TwoMachinesRunTheManifestAndSurviveAKilledDeputy) {
   EXPECT_EQ(watch.process("planning", "ticker")->restarts, 0);
 }
 
+// deploy/shepherd.pbtxt with its lcm line set to ttl: 1 (the README's LAN
+// set-up), written to a temporary file of that name; returns its path.
+std::string lan_shepherd_manifest(const std::string& name) {
+  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string lan = std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1");
+  EXPECT_NE(lan.find("ttl: 1"), std::string::npos) << "no lcm ttl in deploy/shepherd.pbtxt";
+  return write_temp_file(name, lan);
+}
+
 // deploy/shepherd.pbtxt as the README runs it on two machines: the manifest's
 // lcm line set to ttl: 1, the arm on the "arm" machine, the rest on
 // "planning", the sheriff on a third.
 TEST_F(Lan, ShepherdAcrossTwoMachines) {
-  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string lan_text = std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1");
-  ASSERT_NE(lan_text.find("ttl: 1"), std::string::npos);
-  const std::string m = write_temp_file("shepherd_lan.pbtxt", lan_text);
+  const std::string m = lan_shepherd_manifest("shepherd_lan.pbtxt");
   const std::string summary = write_temp_file("shepherd_lan_summary.json", "");
   const std::string url = "udpm://239.255.76.67:7667?ttl=1";
   Processes p;
   Watch watch(url);
-  start_on(p, "deputy_planning", "planning3", "10.77.0.22",
-           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--quiet"});
-  start_on(p, "deputy_arm", "arm3", "10.77.0.23",
-           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--quiet"});
+  start_two_machines(p, 3, url, {"--quiet"});
   ASSERT_EQ(run_to_end(p, "up",
                        {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
                         "--sheep", "1", "--summary", summary}),
@@ -331,27 +339,21 @@ TEST_F(Lan, ShepherdAcrossTwoMachines) {
 // at the default 30 mm/s the arm cannot yet keep three or four, see the
 // README's Performance section) end with every sheep on the field.
 TEST_F(Lan, ThreeSheepStayOnTheFieldAcrossTwoMachines) {
-  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string m = write_temp_file(
-      "shepherd_herd.pbtxt", std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1"));
+  const std::string m = lan_shepherd_manifest("shepherd_herd.pbtxt");
   const std::string url = "udpm://239.255.76.67:7667?ttl=1";
   Processes p;
   Watch watch(url);
-  start_on(p, "deputy_planning", "planning5", "10.77.0.42",
-           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url, "--quiet"});
-  start_on(p, "deputy_arm", "arm5", "10.77.0.43",
-           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url, "--quiet"});
+  start_two_machines(p, 5, url, {"--quiet"});
   ASSERT_EQ(run_to_end(p, "up",
                        {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
                         "--sheep", "3", "--sheep-speed", "8"}),
             0);
-  ASSERT_TRUE(wait_until([&] { return watch.sim_time_s() >= 60.0; }, seconds(90)))
-      << "simulated time reached only " << watch.sim_time_s() << " s";
+  ASSERT_TRUE(wait_until([&] { return watch.herd().sim_time_s >= 60.0; }, seconds(90)))
+      << "simulated time reached only " << watch.herd().sim_time_s << " s";
+  const auto herd = watch.herd();
   std::fprintf(stderr, "3 sheep across the LAN, 60 s: %d escapes, %d saves, %zu arm commands\n",
-               watch.escapes(), watch.saves(), watch.commands_acked());
-  EXPECT_EQ(watch.escapes(), 0);
+               herd.escapes, herd.saves, watch.commands_acked());
+  EXPECT_EQ(herd.escapes, 0);
   EXPECT_GE(watch.commands_acked(), 1u);  // planner (planning) -> comm -> arm (arm machine)
   ASSERT_EQ(run_to_end(p, "down", {m, "stop", "all", "--timeout", "20"}), 0);
 }
@@ -363,18 +365,11 @@ TEST_F(Lan, ThreeSheepStayOnTheFieldAcrossTwoMachines) {
 // accepted + rejected commands never exceed the commands comm sent; comm's
 // retransmissions are answered as repeats).
 TEST_F(Lan, ShepherdWithFivePercentLossOnTheArmLink) {
-  std::ifstream in(source_path("deploy/shepherd.pbtxt"));
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string m = write_temp_file(
-      "shepherd_loss.pbtxt", std::regex_replace(text.str(), std::regex("ttl: 0"), "ttl: 1"));
+  const std::string m = lan_shepherd_manifest("shepherd_loss.pbtxt");
   const std::string url = "udpm://239.255.76.67:7667?ttl=1";
   Processes p;
   Watch watch(url);
-  start_on(p, "deputy_planning", "planning4", "10.77.0.32",
-           {bin("ephor-deputy"), "--host", "planning", "--lcm-url", url});
-  start_on(p, "deputy_arm", "arm4", "10.77.0.33",
-           {bin("ephor-deputy"), "--host", "arm", "--lcm-url", url});
+  start_two_machines(p, 4, url);
   ASSERT_EQ(run_to_end(p, "up",
                        {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
                         "--sheep", "2"}),
