@@ -56,6 +56,48 @@ TEST(ArmConfigurationTest, ParkedArmReachesMostButNotAllOfTheFieldWithoutASwitch
   EXPECT_LT(share, 0.97);
 }
 
+// The seed-7 run's long moves: both ends reachable as the arm is, but the
+// straight line between them crosses joint 1's wedge.
+TEST(ArmConfigurationTest, ALineAcrossTheWedgeNeedsADetourEvenWithoutASwitch) {
+  const PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  const auto at = [&](double phi_deg, double r_mm) {
+    const double phi = phi_deg * M_PI / 180.0;
+    return Eigen::Vector2d(cell.base_x_mm + r_mm * std::cos(phi),
+                           cell.base_y_mm + r_mm * std::sin(phi));
+  };
+  const auto facing_centre = [&](const Eigen::Vector2d& p) {
+    return std::atan2(cell.centre_y_mm() - p.y(), cell.centre_x_mm() - p.x());
+  };
+  const double z = cell.elevation_plane_z_mm;
+  // The tool at 120 deg, 420 mm out, in the configuration nearest park.
+  const Eigen::Vector2d start = at(120.0, 420.0);
+  const auto q = arm::make_puma(cell).nearest_inverse(
+      arm::tool_down_pose(cell, start.x(), start.y(), z, facing_centre(start)),
+      arm::park_joints(cell));
+  ASSERT_TRUE(q.has_value());
+  const JointAngles joints = to_angles(*q);
+  EXPECT_FALSE(config.line_needs_detour(joints, start.x(), start.y(), z, facing_centre(start)));
+  // A short way round the same side: no detour.
+  const Eigen::Vector2d near = at(90.0, 420.0);
+  EXPECT_FALSE(config.needs_switch(joints, near.x(), near.y(), z, facing_centre(near)));
+  EXPECT_FALSE(config.line_needs_detour(joints, near.x(), near.y(), z, facing_centre(near)));
+  // Find a point across the back (through 180 deg) that this configuration
+  // reaches: the straight line to it must cross the wedge.
+  bool found = false;
+  for (double phi = 200.0; phi <= 260.0 && !found; phi += 5.0) {
+    const Eigen::Vector2d far = at(phi, 420.0);
+    if (!arm::reachable_tool_down(cell, far.x(), far.y(), z, facing_centre(far)) ||
+        config.needs_switch(joints, far.x(), far.y(), z, facing_centre(far)))
+      continue;
+    found = true;
+    EXPECT_TRUE(config.line_needs_detour(joints, far.x(), far.y(), z, facing_centre(far)))
+        << "to " << phi << " deg";
+  }
+  EXPECT_TRUE(found) << "no point across the wedge reachable in this configuration";
+}
+
 TEST(ArmConfigurationTest, TheOtherConfigurationCoversWhatTheFirstCannot) {
   const PlannerConfig pc;
   const geometry::Workcell& cell = pc.workcell;

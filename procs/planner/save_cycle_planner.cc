@@ -78,11 +78,17 @@ double SaveCyclePlanner::lowering_delay_s(const ArmModel& arm) const {
 double SaveCyclePlanner::switch_time_s(const ArmModel& arm, double x_mm, double y_mm) const {
   if (!arm.joints_known) return 0.0;
   const double theta = std::atan2(rules_.centre_y_mm() - y_mm, rules_.centre_x_mm() - x_mm);
-  if (arm_configuration_.needs_switch(arm.joints_rad, x_mm, y_mm,
-                                      config().workcell.elevation_plane_z_mm, theta)) {
+  const double z = config().workcell.elevation_plane_z_mm;
+  if (arm_configuration_.needs_switch(arm.joints_rad, x_mm, y_mm, z, theta)) {
     return arm.configuration_switch_s;
   }
-  return passes_column(arm.x_mm, arm.y_mm, x_mm, y_mm) ? arm.column_detour_s : 0.0;
+  if (passes_column(arm.x_mm, arm.y_mm, x_mm, y_mm)) return arm.column_detour_s;
+  // Both ends in this configuration, but the line between them crosses joint
+  // 1's wedge: ephor-arm goes round by a joint-space path as long as a switch.
+  if (arm_configuration_.line_needs_detour(arm.joints_rad, x_mm, y_mm, z, theta)) {
+    return arm.configuration_switch_s;
+  }
+  return 0.0;
 }
 
 bool SaveCyclePlanner::passes_column(double ax, double ay, double x_mm, double y_mm) const {
