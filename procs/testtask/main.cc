@@ -6,6 +6,7 @@
 //     periodic:NAME:PERIOD_MS[:EXEC_US]   released every PERIOD_MS, runs EXEC_US
 //     triggered:NAME[:EXEC_US]            released by task_trigger_t
 
+#include <ctime>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,14 +18,23 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
-#include "common/time/clock.h"
 
 namespace {
 
-// Busy-waits for `us` microseconds of wall time (a stand-in for real work).
+// Nanoseconds of CPU this thread has used.
+int64_t thread_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+// Busy-waits until this thread has used `us` microseconds of CPU (a stand-in
+// for real work: a fixed amount of computing, however often it is preempted).
+// Wall time would let two tasks sharing a CPU split one burst between them,
+// and the scheduler, which measures thread CPU time, would see half the load.
 void burn_us(int64_t us) {
-  const int64_t end = ephor::mono_ns() + us * 1000;
-  while (ephor::mono_ns() < end) {
+  const int64_t end = thread_cpu_ns() + us * 1000;
+  while (thread_cpu_ns() < end) {
   }
 }
 
