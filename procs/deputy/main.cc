@@ -13,6 +13,10 @@
 // change. Without orders it runs nothing; when the sheriff goes away it keeps
 // the last orders. On SIGINT/SIGTERM it stops its processes and exits.
 //
+// Starting, restarting and stopping are DeputyCore's (procs/deputy/
+// deputy_core.h), the same as ephor-launch runs in-process; this file only
+// turns orders into its desired state and its table into status messages.
+//
 // The processes it starts get the deputy's tag in their environment
 // (EPHOR_DEPUTY=HOST@URL); at start a deputy stops processes with its tag that
 // a previous deputy left behind (their parent died), so a restarted deputy
@@ -34,10 +38,9 @@
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "ephor/deputy_output_t.hpp"
+#include "procs/deputy/deputy_core.h"
 #include "procs/deputy/deputy_messages.h"
-#include "procs/deputy/process_table.h"
 #include "procs/deputy/process_usage.h"
-#include "procs/launcher/process_group.h"
 
 namespace {
 
@@ -84,6 +87,29 @@ void stop_leftovers(const DeputySettings& settings, int64_t grace_ns) {
   for (pid_t p : left) kill(p, SIGKILL);
 }
 
+// What happened to a process, for people. Signals the deputy sends are not
+// printed: the exit that follows them is.
+void report(const std::string& host, const DeputyEvent& e) {
+  switch (e.kind) {
+    case DeputyEvent::Kind::kStarted:
+      say(host, "started " + e.name + " (pid " + std::to_string(e.pid) + ", run " +
+                    std::to_string(e.run_id) + "): " + e.path);
+      break;
+    case DeputyEvent::Kind::kStartFailed:
+      // ProcessGroup's reasons already say "cannot start NAME (PATH): ...".
+      say(host, e.reason.rfind("cannot start ", 0) == 0
+                    ? e.reason
+                    : "cannot start " + e.name + ": " + e.reason);
+      break;
+    case DeputyEvent::Kind::kExited:
+      say(host, e.name + " (pid " + std::to_string(e.pid) + ") " + e.exit.describe() +
+                    (e.in_table ? std::string(": ") + to_string(e.state) : std::string()));
+      break;
+    case DeputyEvent::Kind::kSignalled:
+      break;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -115,7 +141,6 @@ int main(int argc, char** argv) {
 
   RestartPolicy policy;
   policy.stop_grace_ns = static_cast<int64_t>(grace_s * 1e9);
-  ProcessTable table(policy);
   ProcessUsage usage;
   std::map<pid_t, UsageSample> usage_now;
 
@@ -136,19 +161,20 @@ int main(int argc, char** argv) {
     // Output lines of the children, published in batches.
     deputy_output_t output{};
     size_t dropped_lines = 0;
-    launcher::ProcessGroup group([&](const std::string& name, const std::string& line) {
-      if (!quiet) {
-        std::printf("[%s] %s\n", name.c_str(), line.c_str());
-        std::fflush(stdout);
-      }
-      if (output.lines.size() >= kMaxLinesPerMessage) {
-        ++dropped_lines;
-        return;
-      }
-      output.processes.push_back(name);
-      output.lines.push_back(line.size() > kMaxLineBytes ? line.substr(0, kMaxLineBytes) + "..."
-                                                         : line);
-    });
+    DeputyCore core(
+        policy, settings.bin_dir, [&](const std::string& name, const std::string& line) {
+          if (!quiet) {
+            std::printf("[%s] %s\n", name.c_str(), line.c_str());
+            std::fflush(stdout);
+          }
+          if (output.lines.size() >= kMaxLinesPerMessage) {
+            ++dropped_lines;
+            return;
+          }
+          output.processes.push_back(name);
+          output.lines.push_back(line.size() > kMaxLineBytes ? line.substr(0, kMaxLineBytes) + "..."
+                                                             : line);
+        });
 
     std::string manifest_text;
     int64_t orders_utime = 0;
@@ -164,16 +190,6 @@ int main(int argc, char** argv) {
         say(host, std::string("stopping on ") + (sig == SIGINT ? "SIGINT" : "SIGTERM"));
         break;
       }
-      const int64_t until = std::min(table.next_deadline_ns(), next_output_ns) - mono_ns();
-      for (const auto& e :
-           group.poll(static_cast<int>(std::clamp<int64_t>(until / 1'000'000, 0, 50)))) {
-        table.exited(e.pid, e.signaled, e.code, e.describe(), mono_ns());
-        if (const ProcessRow* r = table.find(e.name))
-          say(host, e.name + " (pid " + std::to_string(e.pid) + ") " + e.describe() + ": " +
-                        to_string(r->state));
-        else
-          say(host, e.name + " (pid " + std::to_string(e.pid) + ") " + e.describe());
-      }
       if (auto o = orders_box->take()) {
         try {
           const auto orders = host_orders(*o, settings);
@@ -181,7 +197,7 @@ int main(int argc, char** argv) {
             std::ofstream(settings.manifest_path, std::ios::trunc) << o->manifest_text;
             manifest_text = o->manifest_text;
           }
-          table.apply(orders, mono_ns());
+          core.apply(orders);
           if (o->sheriff != sheriff) say(host, "orders from " + o->sheriff);
           orders_utime = o->utime;
           sheriff = o->sheriff;
@@ -189,30 +205,12 @@ int main(int argc, char** argv) {
           if (bad_orders++ % 100 == 0) say(host, std::string("ignoring bad orders: ") + e.what());
         }
       }
-      for (const auto& a : table.step(mono_ns())) {
-        if (a.kind == Action::Kind::kSignal) {
-          group.signal(a.pid, a.signal);
-          continue;
-        }
-        const ProcessRow* r = table.find(a.name);
-        const std::string path = launcher::resolve_executable(r->order.exec, settings.bin_dir);
-        if (path.empty()) {
-          table.start_failed(a.name, "executable '" + r->order.exec + "' not found in " +
-                                         settings.bin_dir + " or $PATH");
-          say(host, "cannot start " + a.name + ": " + r->reason);
-          continue;
-        }
-        try {
-          const pid_t pid =
-              group.start({a.name, path, r->order.args, r->order.env, r->order.allow_exit});
-          table.started(a.name, pid, mono_ns());
-          say(host, "started " + a.name + " (pid " + std::to_string(pid) + ", run " +
-                        std::to_string(r->run_id) + "): " + path);
-        } catch (const std::exception& e) {
-          table.start_failed(a.name, e.what());
-          say(host, e.what());
-        }
-      }
+      // The core wakes earlier for a restart or a SIGKILL that falls due.
+      const int64_t until = next_output_ns - mono_ns();
+      for (const auto& e :
+           core.poll(static_cast<int>(std::clamp<int64_t>(until / 1'000'000, 0, 50))))
+        report(host, e);
+      const ProcessTable& table = core.table();
       const int64_t now = mono_ns();
       if (now >= next_output_ns) {
         next_output_ns = now + kOutputPeriodNs;
@@ -248,8 +246,7 @@ int main(int argc, char** argv) {
         published_version = table.version();
       }
     }
-    group.stop_all(std::chrono::duration_cast<std::chrono::milliseconds>(
-        std::chrono::nanoseconds(policy.stop_grace_ns)));
+    core.stop_all();
     bus.stop();
     std::error_code ec;
     std::filesystem::remove_all(state_dir, ec);
