@@ -101,6 +101,9 @@ int DeputyCore::wait_ms(int timeout_ms) const {
 std::vector<DeputyEvent> DeputyCore::poll(int timeout_ms) {
   std::vector<DeputyEvent> events;
   act(events);  // orders applied since the last call take effect now, not after the wait
+  // Returned before any output is read, so that a wrapper prints "started
+  // NAME" before NAME's first line.
+  if (!events.empty()) return events;
   take_exits(group_.poll(wait_ms(timeout_ms)), events);
   act(events);
   return events;

@@ -70,8 +70,9 @@ class DeputyCore {
   // name.
   void apply(const std::vector<ProcessOrder>& orders);
 
-  // Acts on what is due (starts in the orders' sequence, signals), waits up
-  // to `timeout_ms` for output and exits (less when a restart or a SIGKILL
+  // Acts on what is due (starts in the orders' sequence, signals) and
+  // returns at once when it did something. Otherwise waits up to
+  // `timeout_ms` for output and exits (less when a restart or a SIGKILL
   // falls due earlier), hands the exits to the table and acts again. Returns
   // what happened, in order.
   std::vector<DeputyEvent> poll(int timeout_ms);

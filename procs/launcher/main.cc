@@ -1,7 +1,7 @@
 // ephor-launch: starts a deployment manifest on this machine.
 //
 //   ephor-launch deploy/shepherd.pbtxt [--duration S] [--host NAME] [--headless]
-//                [--arg PROCESS=ARG ...] [--record FILE] [--PARAM VALUE ...]
+//                [--arg PROCESS=ARG ...] [--record FILE] [--restart] [--PARAM VALUE ...]
 //
 // --PARAM VALUE sets a parameter the manifest declares (param { name: ... }),
 // e.g. --seed 7 --sheep 4 --summary out.json for deploy/shepherd.pbtxt.
@@ -11,7 +11,15 @@
 // output with the process name, and stops all of them (SIGTERM, then SIGKILL
 // after a grace time, newest first) on Ctrl-C, on SIGTERM or when --duration
 // has passed. Exits non-zero, naming the process, when one cannot start or
-// dies unexpectedly.
+// dies unexpectedly. With --restart a crashed process is restarted as a
+// deputy does (doubling backoff from 0.1 s, at most 10 crashes in a row); the
+// run ends with an error only when it gives up.
+//
+// One host and many hosts are the same code path: the processes run under
+// the DeputyCore (procs/deputy/deputy_core.h) that ephor-deputy runs on each
+// host of a multi-machine system, in-process here, one core for all hosts of
+// the manifest, without LCM orders and with a restart policy of its own
+// (max_restarts = 0 unless --restart).
 //
 // --record FILE also runs Debian's lcm-logger (started first, so it is
 // stopped last and logs the others' final messages) on the same LCM URL:
@@ -31,12 +39,17 @@
 #include "common/config/text_proto.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
+#include "procs/deputy/deputy_core.h"
 #include "procs/launcher/process_group.h"
 
 namespace {
 
 using namespace ephor;
 using namespace ephor::launcher;
+using ephor::deputy::DeputyCore;
+using ephor::deputy::DeputyEvent;
+using ephor::deputy::ProcessOrder;
+using ephor::deputy::ProcessState;
 
 std::string self_dir() {
   std::error_code ec;
@@ -68,6 +81,7 @@ int main(int argc, char** argv) {
   bool no_scheduler = false;
   bool headless = false;
   std::string record_path;
+  bool restart = false;
   app.add_option("manifest", manifest_path,
                  "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")
       ->required();
@@ -84,6 +98,9 @@ int main(int argc, char** argv) {
   app.add_flag("--headless", headless, "do not start user-interface processes (gui: true)");
   app.add_option("--record", record_path,
                  "record every LCM channel of the run to FILE with lcm-logger");
+  app.add_flag("--restart", restart,
+               "restart crashed processes as a deputy does (backoff, at most 10 crashes in a row) "
+               "instead of stopping everything");
   app.allow_extras();
   app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
   CLI11_PARSE(app, argc, argv);
@@ -154,7 +171,17 @@ int main(int argc, char** argv) {
       std::getenv("EPHOR_BIN_DIR") != nullptr ? std::getenv("EPHOR_BIN_DIR") : self_dir();
   const std::string abs_manifest = std::filesystem::absolute(manifest_path).string();
 
-  std::vector<ProcessSpec> specs;
+  std::vector<ProcessOrder> orders;
+  auto order = [](std::string name, std::string exec, std::vector<std::string> args,
+                  std::vector<std::pair<std::string, std::string>> env, bool allow_exit) {
+    ProcessOrder o;
+    o.name = std::move(name);
+    o.exec = std::move(exec);
+    o.args = std::move(args);
+    o.env = std::move(env);
+    o.allow_exit = allow_exit;
+    return o;
+  };
   std::set<std::string> hosts;
   auto selected = [&](const config::Process& p) {
     return (only_host.empty() || p.host() == only_host) && !(headless && p.gui());
@@ -177,76 +204,106 @@ int main(int argc, char** argv) {
       return 1;
     }
     const std::string abs_record = std::filesystem::absolute(record_path).string();
-    specs.push_back({"logger",
-                     logger,
-                     {"--lcm-url=" + url, "-q", "-f", abs_record},
-                     base_env("logger", only_host.empty() ? "" : only_host),
-                     false});
+    orders.push_back(order("logger", logger, {"--lcm-url=" + url, "-q", "-f", abs_record},
+                           base_env("logger", only_host.empty() ? "" : only_host), false));
   }
   if (!no_scheduler) {
     for (const auto& host : hosts) {
       const std::string name = hosts.size() == 1 ? "scheduler" : "scheduler@" + host;
-      specs.push_back({name,
-                       resolve_executable("ephor-scheduler", bin_dir),
-                       {"--manifest", abs_manifest, "--host", host},
-                       base_env(name, host),
-                       false});
+      orders.push_back(order(name, "ephor-scheduler", {"--manifest", abs_manifest, "--host", host},
+                             base_env(name, host), false));
     }
   }
   for (const auto& p : manifest.process()) {
     if (!selected(p)) continue;
-    ProcessSpec s{p.name(), resolve_executable(p.exec(), bin_dir), expand_args(p, params),
-                  base_env(p.name(), p.host()), p.allow_exit()};
-    for (const auto& a : more_args[p.name()]) s.args.push_back(a);
-    if (s.path.empty()) {
+    ProcessOrder o = order(p.name(), resolve_executable(p.exec(), bin_dir), expand_args(p, params),
+                           base_env(p.name(), p.host()), p.allow_exit());
+    for (const auto& a : more_args[p.name()]) o.args.push_back(a);
+    // Checked before anything starts, with a hint: a missing binary is
+    // usually a missing build, and nothing needs stopping yet.
+    if (o.exec.empty()) {
       std::fprintf(stderr,
                    "[launch] cannot start %s: executable '%s' not found in %s or $PATH (built? "
                    "try: tools/ephor build)\n",
                    p.name().c_str(), p.exec().c_str(), bin_dir.c_str());
       return 1;
     }
-    specs.push_back(s);
+    orders.push_back(std::move(o));
   }
 
   size_t width = 6;
-  for (const auto& s : specs) width = std::max(width, s.name.size());
-  ProcessGroup group([width](const std::string& name, const std::string& line) {
+  for (const auto& o : orders) width = std::max(width, o.name.size());
+  deputy::RestartPolicy policy;
+  if (!restart) policy.max_restarts = 0;  // a crash ends the run
+  policy.stop_grace_ns = static_cast<int64_t>(grace_ms) * 1'000'000;
+  DeputyCore core(policy, bin_dir, [width](const std::string& name, const std::string& line) {
     std::printf("[%-*s] %s\n", static_cast<int>(width), name.c_str(), line.c_str());
     std::fflush(stdout);
   });
+  try {
+    core.apply(orders);
+  } catch (const std::invalid_argument& e) {  // e.g. a process named like a scheduler row
+    std::fprintf(stderr, "[launch] %s: %s\n", manifest_path.c_str(), e.what());
+    return 2;
+  }
+
+  // Reports an event; true when it ends the run.
+  auto failed = [&](const DeputyEvent& e) {
+    switch (e.kind) {
+      case DeputyEvent::Kind::kStarted:
+        say("started " + e.name + " (pid " + std::to_string(e.pid) + "): " + e.path);
+        return false;
+      case DeputyEvent::Kind::kStartFailed:
+        // ProcessGroup's reasons already say "cannot start NAME (PATH): ...".
+        std::fprintf(
+            stderr, "[launch] %s\n",
+            (e.reason.rfind("cannot start ", 0) == 0 ? e.reason
+                                                     : "cannot start " + e.name + ": " + e.reason)
+                .c_str());
+        return true;
+      case DeputyEvent::Kind::kExited:
+        if (!e.in_table) return false;
+        if (e.state == ProcessState::kFinished) {
+          say(e.name + " finished");
+          return false;
+        }
+        if (e.state == ProcessState::kBackoff) {  // --restart
+          const auto* row = core.table().find(e.name);
+          say("process " + e.name + " crashed: " + e.exit.describe() + "; restart " +
+              std::to_string(row->crashes_in_row) + " of " + std::to_string(policy.max_restarts) +
+              " in " + fmt_seconds(static_cast<double>(row->next_start_ns - e.at_ns) / 1e9));
+          return false;
+        }
+        if (e.state == ProcessState::kFailed) {
+          const std::string gave_up =
+              restart
+                  ? " (gave up after " + std::to_string(core.table().find(e.name)->crashes_in_row) +
+                        " crashes in a row)"
+                  : "";
+          std::fprintf(stderr, "[launch] process %s died unexpectedly: %s%s; stopping everything\n",
+                       e.name.c_str(), e.exit.describe().c_str(), gave_up.c_str());
+          return true;
+        }
+        return false;
+      case DeputyEvent::Kind::kSignalled:
+        return false;
+    }
+    return false;
+  };
 
   say("manifest " + manifest.name() + ", LCM " + url);
   int rc = 0;
-  for (const auto& s : specs) {
-    try {
-      const pid_t pid = group.start(s);
-      say("started " + s.name + " (pid " + std::to_string(pid) + "): " + s.path);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "[launch] %s\n", e.what());
-      rc = 1;
-      break;
-    }
-  }
+  for (const auto& e : core.poll(0))  // starts everything, in the orders' sequence
+    if (failed(e)) rc = 1;
   if (rc == 0) {
     say(duration_s > 0 ? "running for " + fmt_seconds(duration_s)
                        : "running; Ctrl-C stops everything");
     const int64_t end_ns =
         duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
     while (true) {
-      bool failed = false;
-      for (const auto& e : group.poll(100)) {
-        if (e.failure) {
-          std::fprintf(stderr, "[launch] process %s died unexpectedly: %s; stopping everything\n",
-                       e.name.c_str(), e.describe().c_str());
-          failed = true;
-        } else {
-          say(e.name + " finished");
-        }
-      }
-      if (failed) {
-        rc = 1;
-        break;
-      }
+      for (const auto& e : core.poll(100))
+        if (failed(e)) rc = 1;
+      if (rc != 0) break;
       if (wait_for_shutdown_signal(0.001) != 0) {
         say("stopping on signal");
         break;
@@ -257,8 +314,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  for (const auto& e : group.stop_all(std::chrono::milliseconds(grace_ms))) {
-    if (e.signaled && e.code == SIGKILL)
+  for (const auto& e : core.stop_all()) {
+    if (e.kind == DeputyEvent::Kind::kSignalled && e.signal == SIGKILL)
       say(e.name + " did not stop within the grace time: killed");
   }
   say(rc == 0 ? "all stopped" : "all stopped after a failure");

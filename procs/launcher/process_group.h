@@ -1,7 +1,8 @@
 #pragma once
 // ProcessGroup: starts child processes, captures their output line by line,
 // notices when they exit, and stops them (SIGTERM, then SIGKILL after a grace
-// time). No LCM: the launcher (and later the per-host deputy) wire it up.
+// time). No LCM: procs/deputy's DeputyCore drives it, for ephor-deputy and
+// ephor-launch alike.
 //
 // Children run in their own process group (a terminal's Ctrl-C reaches only
 // the launcher, which then stops them in reverse start order) and get
