@@ -5,7 +5,12 @@
 // planner.
 //
 //   ephor-bench-planner [--minutes 10] [--seeds 3] [--max-sheep 8]
-//                       [--lag-s 0.15] [--hide-mm 150] [--json FILE]
+//                       [--lag-s 0.15] [--hide-mm 150] [--arm point|puma]
+//                       [--sheep-speed 30] [--json FILE]
+//
+// --arm point: the tool is a point moving straight at 300 mm/s (the
+// planner's own model of the arm); --arm puma: the PUMA 560 as ephor-arm
+// moves it (PumaArmMotion: configuration changes, detours, speed scaling).
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +24,7 @@
 
 #include "procs/planner/kinematic_field.h"
 #include "procs/planner/planner.h"
+#include "procs/planner/puma_arm_motion.h"
 
 namespace {
 
@@ -32,13 +38,21 @@ struct Run {
   std::vector<double> job_us;
 };
 
-Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, double lag_s,
-        double hide_mm) {
+struct Options {
+  double lag_s = 0.15;
+  double hide_mm = 150.0;
+  std::string arm = "point";
+  double sheep_speed_mm_s = 30.0;
+};
+
+Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o) {
   KinematicFieldConfig fc;
+  fc.sheep_speed_mm_s = o.sheep_speed_mm_s;
+  if (o.arm == "puma") fc.arm_motion = std::make_shared<ephor::planner::PumaArmMotion>(fc.workcell);
   fc.sheep = sheep;
   fc.seed = seed;
-  fc.velocity_lag_s = lag_s;
-  fc.hide_radius_mm = hide_mm;
+  fc.velocity_lag_s = o.lag_s;
+  fc.hide_radius_mm = o.hide_mm;
   KinematicField field{fc};
   auto planner = ephor::planner::make_planner(kind, ephor::planner::PlannerConfig{});
   const ArmModel arm;
@@ -73,24 +87,27 @@ int main(int argc, char** argv) {
   double minutes = 10.0;
   int seeds = 3;
   int max_sheep = 8;
-  double lag_s = 0.15;
-  double hide_mm = 150.0;
+  Options o;
   std::string json_path;
   app.add_option("--minutes", minutes, "simulated minutes per run")->check(CLI::Range(0.1, 600.0));
   app.add_option("--seeds", seeds, "runs (seeds 1..N) per planner and sheep count")
       ->check(CLI::Range(1, 100));
   app.add_option("--max-sheep", max_sheep, "sheep counts 1..N")->check(CLI::Range(1, 20));
-  app.add_option("--lag-s", lag_s, "sensing lag of a turn, s")->check(CLI::Range(0.0, 5.0));
-  app.add_option("--hide-mm", hide_mm, "sheep within this of the lowered tool are hidden, mm")
+  app.add_option("--lag-s", o.lag_s, "sensing lag of a turn, s")->check(CLI::Range(0.0, 5.0));
+  app.add_option("--hide-mm", o.hide_mm, "sheep within this of the lowered tool are hidden, mm")
       ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--arm", o.arm, "point: straight lines at 300 mm/s; puma: ephor-arm's motions")
+      ->check(CLI::IsMember({"point", "puma"}));
+  app.add_option("--sheep-speed", o.sheep_speed_mm_s, "mean sheep speed, mm/s")
+      ->check(CLI::Range(1.0, 200.0));
   app.add_option("--json", json_path, "write the results here");
   CLI11_PARSE(app, argc, argv);
 
   nlohmann::json results = nlohmann::json::array();
   std::printf(
       "escapes per 10 simulated min (mean of %d seeds, %.1f min each; lag %.2f s, hidden %.0f "
-      "mm)\n",
-      seeds, minutes, lag_s, hide_mm);
+      "mm; arm %s; sheep %.0f mm/s)\n",
+      seeds, minutes, o.lag_s, o.hide_mm, o.arm.c_str(), o.sheep_speed_mm_s);
   std::printf("%-10s", "planner");
   for (int n = 1; n <= max_sheep; ++n) std::printf("  %2d sheep", n);
   std::printf("   job p50/p99/max us\n");
@@ -101,7 +118,7 @@ int main(int argc, char** argv) {
       int escapes = 0;
       int touches = 0;
       for (int s = 1; s <= seeds; ++s) {
-        const Run r = run(kind, n, static_cast<uint32_t>(s), minutes * 60.0, lag_s, hide_mm);
+        const Run r = run(kind, n, static_cast<uint32_t>(s), minutes * 60.0, o);
         escapes += r.escapes;
         touches += r.touches;
         all_us.insert(all_us.end(), r.job_us.begin(), r.job_us.end());
@@ -121,7 +138,12 @@ int main(int argc, char** argv) {
   }
   if (!json_path.empty()) {
     std::ofstream out(json_path);
-    out << nlohmann::json{{"lag_s", lag_s}, {"hide_mm", hide_mm}, {"runs", results}}.dump(2)
+    out << nlohmann::json{{"lag_s", o.lag_s},
+                          {"hide_mm", o.hide_mm},
+                          {"arm", o.arm},
+                          {"sheep_speed_mm_s", o.sheep_speed_mm_s},
+                          {"runs", results}}
+               .dump(2)
         << "\n";
     if (!out) {
       std::fprintf(stderr, "cannot write %s\n", json_path.c_str());

@@ -12,6 +12,7 @@ KinematicField::KinematicField(const KinematicFieldConfig& config)
       tool_x_(config.start_x_mm),
       tool_y_(config.start_y_mm),
       tool_z_(config.workcell.elevation_plane_z_mm) {
+  if (config_.arm_motion) step_arm_motion(0.0);  // the tool is where the arm is
   for (int i = 0; i < config_.sheep; ++i) {
     SimSheep s{};
     spawn_inside(s);
@@ -26,6 +27,7 @@ KinematicField::KinematicField(const KinematicFieldConfig& config,
       tool_x_(config.start_x_mm),
       tool_y_(config.start_y_mm),
       tool_z_(config.workcell.elevation_plane_z_mm) {
+  if (config_.arm_motion) step_arm_motion(0.0);
   for (const Sheep& in : initial) {
     SimSheep s{};
     s.id = in.id;
@@ -98,6 +100,29 @@ void KinematicField::send(const Goal& goal) {
   if (goal_) done_.emplace_back(goal_->goal_id, false);
   goal_ = goal;
   goal_start_s_ = now_s_ + config_.goal_latency_s;
+  goal_started_ = false;
+}
+
+void KinematicField::step_arm_motion(double dt) {
+  ArmMotion& arm = *config_.arm_motion;
+  if (goal_ && now_s_ >= goal_start_s_ && !goal_started_) {
+    const auto& w = config_.workcell;
+    const double gz = goal_->plane == Plane::kObject ? w.object_plane_z_mm : w.elevation_plane_z_mm;
+    goal_started_ = true;
+    if (!arm.start(goal_->x_mm, goal_->y_mm, gz, goal_->theta_rad)) {
+      done_.emplace_back(goal_->goal_id, false);
+      goal_.reset();
+    }
+  }
+  const bool ended = arm.step(dt);
+  if (goal_ && goal_started_ && ended) {
+    done_.emplace_back(goal_->goal_id, true);
+    goal_.reset();
+  }
+  const auto tool = arm.tool_mm();
+  tool_x_ = tool[0];
+  tool_y_ = tool[1];
+  tool_z_ = tool[2];
 }
 
 std::vector<std::pair<int64_t, bool>> KinematicField::take_done() {
@@ -109,8 +134,10 @@ std::vector<std::pair<int64_t, bool>> KinematicField::take_done() {
 void KinematicField::step(double dt) {
   const auto& w = config_.workcell;
   now_s_ += dt;
-  // Arm: straight line at its speed cap towards the goal.
-  if (goal_ && now_s_ >= goal_start_s_) {
+  if (config_.arm_motion) {
+    step_arm_motion(dt);
+  } else if (goal_ && now_s_ >= goal_start_s_) {
+    // Arm: straight line at its speed cap towards the goal.
     const double gz = goal_->plane == Plane::kObject ? w.object_plane_z_mm : w.elevation_plane_z_mm;
     const double dx = goal_->x_mm - tool_x_;
     const double dy = goal_->y_mm - tool_y_;
@@ -176,6 +203,10 @@ Scene KinematicField::scene(const ArmModel& arm_params) const {
   out.arm = arm_params;
   out.arm.x_mm = tool_x_;
   out.arm.y_mm = tool_y_;
+  if (config_.arm_motion) {
+    out.arm.joints_known = true;
+    out.arm.joints_rad = config_.arm_motion->joints();
+  }
   const auto& w = config_.workcell;
   out.arm.lowered = tool_z_ < 0.5 * (w.elevation_plane_z_mm + w.object_plane_z_mm);
   for (const SimSheep& s : sheep_) {

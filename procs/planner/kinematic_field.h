@@ -8,8 +8,14 @@
 // sheep toward the field centre. A sheep whose centre leaves the field is an
 // escape and re-enters from a random edge point after a delay. No
 // collisions, no pedestal. Deterministic for a seed. All in F: mm, mm/s, s.
+//
+// The arm can instead be a real one (KinematicFieldConfig::arm_motion, e.g.
+// PumaArmMotion: the PUMA 560 with ephor-arm's motion planner), so that a
+// planner meets configuration changes and detours around the column here
+// as it does on the full system.
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <random>
 #include <utility>
@@ -18,6 +24,22 @@
 #include "procs/planner/herd_types.h"
 
 namespace ephor::planner {
+
+// How the stand-in's tool gets to a goal, when not as a point at its speed cap.
+class ArmMotion {
+ public:
+  virtual ~ArmMotion() = default;
+  // Starts a motion of the tool tip, pointing down with orientation theta
+  // (rad), to (x, y, z) of F (mm) from where it is now. False when the arm
+  // refuses the goal (it then stays where it is).
+  virtual bool start(double x_mm, double y_mm, double z_mm, double theta_rad) = 0;
+  // Advances the motion by dt_s; true once it has ended.
+  virtual bool step(double dt_s) = 0;
+  // Tool tip in F, mm.
+  virtual std::array<double, 3> tool_mm() const = 0;
+  // The arm's joints, rad (what ARM_STATE tells the planner).
+  virtual JointAngles joints() const = 0;
+};
 
 struct KinematicFieldConfig {
   geometry::Workcell workcell;
@@ -41,6 +63,9 @@ struct KinematicFieldConfig {
   double hide_radius_mm = 0.0;
   double start_x_mm = 1219.0 - 60.0;  // the arm starts parked
   double start_y_mm = 60.0;
+  // A real arm instead of the point (it starts where it is, not at
+  // start_x/y); shared so that a config stays copyable.
+  std::shared_ptr<ArmMotion> arm_motion;
 };
 
 class KinematicField {
@@ -79,6 +104,7 @@ class KinematicField {
   };
   void spawn_inside(SimSheep& s);
   void spawn_at_edge(SimSheep& s);
+  void step_arm_motion(double dt_s);
 
   KinematicFieldConfig config_;
   std::mt19937 rng_;
@@ -88,6 +114,7 @@ class KinematicField {
   double tool_x_, tool_y_, tool_z_;
   std::optional<Goal> goal_;
   double goal_start_s_ = 0.0;
+  bool goal_started_ = false;  // handed to config_.arm_motion
   std::vector<std::pair<int64_t, bool>> done_;
   int escapes_ = 0;
   int touches_ = 0;
