@@ -240,6 +240,53 @@ TEST(ArmConfigurationTest, MoveAcrossTheColumnGoesAroundItInStraightLegs) {
                                    cell.elevation_plane_z_mm, theta));
 }
 
+// Wherever the arm is on the edge band and whichever side of the column the
+// sheep leaves, a leg sent around the column is one ephor-arm drives as a
+// straight line: its line does not cross joint 1's wedge (that would be a
+// joint-space path as long as the configuration change the legs avoid).
+TEST(ArmConfigurationTest, LegsAroundTheColumnNeverCrossTheWedge) {
+  PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  const arm::Puma560 puma = arm::make_puma(cell);
+  int legs = 0;
+  for (double ax = 100.0; ax < cell.field_length_mm; ax += 100.0) {
+    for (double ay : {100.0, cell.field_width_mm - 100.0}) {
+      const double a_theta = std::atan2(cell.centre_y_mm() - ay, cell.centre_x_mm() - ax);
+      const auto q = puma.nearest_inverse(
+          arm::tool_down_pose(cell, ax, ay, cell.elevation_plane_z_mm, a_theta),
+          arm::park_joints(cell));
+      if (!q) continue;
+      Scene scene;
+      scene.arm.x_mm = ax;
+      scene.arm.y_mm = ay;
+      scene.arm.joints_known = true;
+      scene.arm.joints_rad = to_angles(*q);
+      // A sheep leaving over the opposite long edge, mirrored through the centre.
+      const double sx = cell.field_length_mm - ax;
+      const double sy = ay < cell.centre_y_mm() ? cell.field_width_mm - 160.0 : 160.0;
+      scene.sheep = {
+          Sheep{1, sx, sy, 0.0, ay < cell.centre_y_mm() ? 10.0 : -10.0, SheepState::kVisible}};
+      MultiSheepPlanner planner(pc);
+      const auto goal = planner.plan(scene);
+      if (!goal || goal->plane != Plane::kElevation) continue;
+      if (clearance_from_column(cell, ax, ay, sx, sy) >= pc.tool_keepout_mm) continue;
+      // A goal whose line still passes the column is the intercept itself
+      // (no leg was usable): ephor-arm's joint-space path, as the planner timed.
+      if (clearance_from_column(cell, ax, ay, goal->x_mm, goal->y_mm) < pc.tool_keepout_mm)
+        continue;
+      ++legs;
+      const double theta =
+          std::atan2(cell.centre_y_mm() - goal->y_mm, cell.centre_x_mm() - goal->x_mm);
+      EXPECT_FALSE(config.line_needs_detour(scene.arm.joints_rad, goal->x_mm, goal->y_mm,
+                                            cell.elevation_plane_z_mm, theta))
+          << "arm at (" << ax << ", " << ay << "), leg to (" << goal->x_mm << ", " << goal->y_mm
+          << ")";
+    }
+  }
+  EXPECT_GE(legs, 10);
+}
+
 // Without joints (the kinematic stand-in) the planner times every move as
 // a straight line, as before.
 TEST(ArmConfigurationTest, UnknownJointsMeanNoSwitchTime) {

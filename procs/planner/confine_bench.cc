@@ -35,6 +35,9 @@ using ephor::planner::KinematicFieldConfig;
 struct Run {
   int escapes = 0;
   int touches = 0;
+  int moves = 0;  // --arm puma: moves, joint-space paths among them and their time
+  int joint_space_moves = 0;
+  double joint_space_s = 0.0;
   std::vector<double> job_us;
 };
 
@@ -48,13 +51,17 @@ struct Options {
 Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o) {
   KinematicFieldConfig fc;
   fc.sheep_speed_mm_s = o.sheep_speed_mm_s;
-  if (o.arm == "puma") fc.arm_motion = std::make_shared<ephor::planner::PumaArmMotion>(fc.workcell);
+  std::shared_ptr<ephor::planner::PumaArmMotion> puma;
+  if (o.arm == "puma")
+    fc.arm_motion = puma = std::make_shared<ephor::planner::PumaArmMotion>(fc.workcell);
   fc.sheep = sheep;
   fc.seed = seed;
   fc.velocity_lag_s = o.lag_s;
   fc.hide_radius_mm = o.hide_mm;
   KinematicField field{fc};
-  auto planner = ephor::planner::make_planner(kind, ephor::planner::PlannerConfig{});
+  ephor::planner::PlannerConfig pc;
+  pc.workcell = fc.workcell;
+  auto planner = ephor::planner::make_planner(kind, pc);
   const ArmModel arm;
   const double dt = 1.0 / 30.0;
   Run out;
@@ -69,6 +76,11 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
     if (goal) field.send(*goal);
   }
   out.escapes = field.escapes();
+  if (puma) {
+    out.moves = puma->moves();
+    out.joint_space_moves = puma->joint_space_moves();
+    out.joint_space_s = puma->joint_space_time_s();
+  }
   out.touches = field.touches();
   return out;
 }
@@ -89,6 +101,7 @@ int main(int argc, char** argv) {
   int max_sheep = 8;
   Options o;
   std::string json_path;
+  std::vector<std::string> kinds = ephor::planner::planner_kinds();
   app.add_option("--minutes", minutes, "simulated minutes per run")->check(CLI::Range(0.1, 600.0));
   app.add_option("--seeds", seeds, "runs (seeds 1..N) per planner and sheep count")
       ->check(CLI::Range(1, 100));
@@ -100,6 +113,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"point", "puma"}));
   app.add_option("--sheep-speed", o.sheep_speed_mm_s, "mean sheep speed, mm/s")
       ->check(CLI::Range(1.0, 200.0));
+  app.add_option("--planner", kinds, "planner kinds to run (default: all)")
+      ->check(CLI::IsMember(ephor::planner::planner_kinds()));
   app.add_option("--json", json_path, "write the results here");
   CLI11_PARSE(app, argc, argv);
 
@@ -111,16 +126,22 @@ int main(int argc, char** argv) {
   std::printf("%-10s", "planner");
   for (int n = 1; n <= max_sheep; ++n) std::printf("  %2d sheep", n);
   std::printf("   job p50/p99/max us\n");
-  for (const std::string& kind : ephor::planner::planner_kinds()) {
+  for (const std::string& kind : kinds) {
     std::printf("%-10s", kind.c_str());
     std::vector<double> all_us;
     for (int n = 1; n <= max_sheep; ++n) {
       int escapes = 0;
       int touches = 0;
+      int moves = 0;
+      int joint_space_moves = 0;
+      double joint_space_s = 0.0;
       for (int s = 1; s <= seeds; ++s) {
         const Run r = run(kind, n, static_cast<uint32_t>(s), minutes * 60.0, o);
         escapes += r.escapes;
         touches += r.touches;
+        moves += r.moves;
+        joint_space_moves += r.joint_space_moves;
+        joint_space_s += r.joint_space_s;
         all_us.insert(all_us.end(), r.job_us.begin(), r.job_us.end());
       }
       const double per10 = static_cast<double>(escapes) / seeds * (10.0 / minutes);
@@ -131,7 +152,10 @@ int main(int argc, char** argv) {
                          {"minutes", minutes},
                          {"escapes_total", escapes},
                          {"escapes_per_10min", per10},
-                         {"touches_total", touches}});
+                         {"touches_total", touches},
+                         {"arm_moves_total", moves},
+                         {"joint_space_moves_total", joint_space_moves},
+                         {"joint_space_time_s_total", joint_space_s}});
     }
     std::printf("   %.1f/%.1f/%.1f\n", percentile(all_us, 0.5), percentile(all_us, 0.99),
                 percentile(all_us, 1.0));

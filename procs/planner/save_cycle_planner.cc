@@ -135,8 +135,11 @@ std::optional<std::pair<double, double>> SaveCyclePlanner::column_waypoint(const
         if (!rules_.usable_point(wx, wy)) continue;
         if (passes_column(arm.x_mm, arm.y_mm, wx, wy)) break;  // smaller r only gets closer
         const double theta = std::atan2(cy - wy, cx - wx);
+        // A leg that needs a configuration change, or whose line crosses
+        // joint 1's wedge, would cost the 12-15 s the legs are there to save.
         if (!arm::reachable_tool_down(config().workcell, wx, wy, z, theta) ||
-            arm_configuration_.needs_switch(arm.joints_rad, wx, wy, z, theta)) {
+            arm_configuration_.needs_switch(arm.joints_rad, wx, wy, z, theta) ||
+            arm_configuration_.line_needs_detour(arm.joints_rad, wx, wy, z, theta)) {
           continue;
         }
         return std::make_pair(wx, wy);
