@@ -5,44 +5,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/arm/tool_line.h"
 #include "procs/arm/joint_path_timing.h"
 #include "procs/arm/trapezoid_profile.h"
 
 namespace ephor::arm {
-
-namespace {
-
-// The straight line between two tool poses: position linear, orientation slerp.
-struct PoseLine {
-  Eigen::Vector3d p0, p1;
-  Eigen::Quaterniond r0, r1;
-  double length_mm = 0.0;
-  double angle_rad = 0.0;
-
-  PoseLine(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
-      : p0(a.translation()), p1(b.translation()), r0(a.linear()), r1(b.linear()) {
-    r0.normalize();
-    r1.normalize();
-    length_mm = (p1 - p0).norm();
-    angle_rad = r0.angularDistance(r1);
-  }
-  Eigen::Isometry3d at(double u) const {
-    u = std::clamp(u, 0.0, 1.0);
-    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-    t.linear() = r0.slerp(u, r1).toRotationMatrix();
-    t.translation() = p0 + u * (p1 - p0);
-    return t;
-  }
-};
-
-// Joint vector nearest `previous` among the IK solutions (each joint's 2 pi
-// representation chosen nearest previous).
-std::optional<Joints> track(const Puma560& arm, const Eigen::Isometry3d& pose,
-                            const Joints& previous) {
-  return arm.nearest_inverse(pose, previous);
-}
-
-}  // namespace
 
 const char* to_string(MotionKind kind) {
   switch (kind) {
@@ -70,28 +37,34 @@ std::optional<std::string> MotionPlanner::check_cartesian(const Joints& start,
                                                           const Eigen::Isometry3d& goal_in_base,
                                                           const Joints& goal_q,
                                                           double min_tip_z_mm) const {
-  const PoseLine line(arm_.forward(start), goal_in_base);
+  const ToolLine line(arm_.forward(start), goal_in_base);
   const int n =
-      std::max(1, static_cast<int>(std::ceil(std::max(line.length_mm / config_.check_step_mm,
-                                                      line.angle_rad / config_.check_step_rad))));
-  Joints q = start;
-  for (int i = 1; i <= n; ++i) {
-    const double u = static_cast<double>(i) / n;
-    const auto next = track(arm_, line.at(u), q);
-    if (!next)
-      return fmt::format("the straight line leaves the reachable workspace {:.0f} % of the way",
-                         100 * u);
-    const double jump = (*next - q).cwiseAbs().maxCoeff();
-    if (jump > config_.max_joint_step_rad)
-      return fmt::format(
-          "the straight line changes IK branch or passes a singularity {:.0f} % of the way "
-          "(joint jump {:.2f} rad)",
-          100 * u, jump);
-    if (auto hit = collisions_.collision(*next, min_tip_z_mm))
-      return fmt::format("the straight line collides {:.0f} % of the way: ", 100 * u) + *hit;
-    q = *next;
+      std::max(1, static_cast<int>(std::ceil(std::max(line.length_mm() / config_.check_step_mm,
+                                                      line.angle_rad() / config_.check_step_rad))));
+  std::string hit;
+  Joints end = start;
+  const auto stop = line.follow(
+      arm_, start, n, config_.max_joint_step_rad,
+      [&](const Joints& q) {
+        if (auto h = collisions_.collision(q, min_tip_z_mm)) hit = *h;
+        return hit.empty();
+      },
+      &end);
+  if (stop) {
+    switch (stop->kind) {
+      case LineBreak::Kind::kUnreachable:
+        return fmt::format("the straight line leaves the reachable workspace {:.0f} % of the way",
+                           100 * stop->u);
+      case LineBreak::Kind::kJump:
+        return fmt::format(
+            "the straight line changes IK branch or passes a singularity {:.0f} % of the way "
+            "(joint jump {:.2f} rad)",
+            100 * stop->u, stop->jump_rad);
+      case LineBreak::Kind::kRejected:
+        return fmt::format("the straight line collides {:.0f} % of the way: ", 100 * stop->u) + hit;
+    }
   }
-  if ((q - goal_q).cwiseAbs().maxCoeff() > 1e-6)
+  if ((end - goal_q).cwiseAbs().maxCoeff() > 1e-6)
     return std::string(
         "the straight line ends in another IK branch than the one nearest the start");
   return std::nullopt;
@@ -146,9 +119,9 @@ MotionPlan MotionPlanner::plan_cartesian(const Joints& start, const Eigen::Isome
   MotionPlan out;
   out.goal_q = goal_q;
   out.requested_speed_mm_s = speed_mm_s;
-  const PoseLine line(arm_.forward(start), goal_in_base);
+  const ToolLine line(arm_.forward(start), goal_in_base);
   const double length =
-      std::max(line.length_mm, config_.turn_equivalent_mm_per_rad * line.angle_rad);
+      std::max(line.length_mm(), config_.turn_equivalent_mm_per_rad * line.angle_rad());
   if (length < 1e-6 && (goal_q - start).cwiseAbs().maxCoeff() < 1e-9) {
     out.ok = true;
     out.kind = MotionKind::kStay;
@@ -161,7 +134,7 @@ MotionPlan MotionPlanner::plan_cartesian(const Joints& start, const Eigen::Isome
                              std::string* why) -> std::optional<Joints> {
     const double u = length > 0.0 ? profile.position(t) / length : 1.0;
     if (u >= 1.0 - 1e-12) return goal_q;
-    auto q = track(arm, line.at(u), previous);
+    auto q = arm.nearest_inverse(line.at(u), previous);
     if (!q && why) *why = "inverse kinematics failed along the line";
     return q;
   };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/arm/tool_line.h"
+
 namespace ephor::planner {
 
 ArmConfiguration::ArmConfiguration(const geometry::Workcell& cell)
@@ -48,19 +50,10 @@ bool ArmConfiguration::line_needs_detour(const JointAngles& q, double x_mm, doub
   constexpr double kJumpRad = 1.0;
   arm::Joints current;
   for (int i = 0; i < 6; ++i) current(i) = q[static_cast<size_t>(i)];
-  const arm::ToolInField from = arm::tool_in_field(cell_, current);
-  const Eigen::Vector3d to(x_mm, y_mm, z_mm);
-  const double turn = std::remainder(theta_rad - from.theta_rad, 2.0 * M_PI);
-  const int n = std::max(1, static_cast<int>(std::ceil((to - from.tip_mm).norm() / step_mm)));
-  for (int i = 1; i <= n; ++i) {
-    const double u = static_cast<double>(i) / n;
-    const Eigen::Vector3d p = from.tip_mm + u * (to - from.tip_mm);
-    const auto next = puma_.nearest_inverse(
-        arm::tool_down_pose(cell_, p.x(), p.y(), p.z(), from.theta_rad + u * turn), current);
-    if (!next || (*next - current).cwiseAbs().maxCoeff() > kJumpRad) return true;
-    current = *next;
-  }
-  return false;
+  const arm::ToolLine line(puma_.forward(current),
+                           arm::tool_down_pose(cell_, x_mm, y_mm, z_mm, theta_rad));
+  const int n = static_cast<int>(std::ceil(line.length_mm() / step_mm));
+  return line.follow(puma_, current, n, kJumpRad).has_value();
 }
 
 }  // namespace ephor::planner

@@ -1,8 +1,8 @@
 // ephor-planner: the shepherd's executive (paper 003, section 3.4). Keeps the
 // newest OBJECTS and ARM_STATE, runs one planning job (triggered task "plan")
 // per objects update (motion_done events are taken in by the next job), and
-// sends at most one ARM_GOAL at a time, in image coordinates as the paper's planner did. Reports what it
-// is doing on PLANNER_STATUS every job.
+// sends at most one ARM_GOAL at a time, in image coordinates as the paper's
+// planner did. Reports what it is doing on PLANNER_STATUS every job.
 //
 //   ephor-planner [--planner single|multi|lookahead] [--arm-speed-mm-s S]
 //                 [--calibration FILE] [process flags]
