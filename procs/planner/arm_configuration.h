@@ -40,9 +40,8 @@ class ArmConfiguration {
   // joints: the line crosses joint 1's +-160 deg wedge (or a wrist joint's
   // limit) even though both ends are in q's configuration, so the arm takes
   // a joint-space path around (12-15 s on the full system, like a
-  // configuration change). Tracks the nearest IK solution every `step_mm`
-  // along the line, position linear and theta along the shorter way, as
-  // ephor-arm's Cartesian check does. A point out of reach also returns
+  // configuration change). Walks the line every `step_mm` with the same
+  // arm::ToolLine as ephor-arm's Cartesian check. A point out of reach also returns
   // true; the column keep-out is FieldRules' business.
   bool line_needs_detour(const JointAngles& q, double x_mm, double y_mm, double z_mm,
                          double theta_rad, double step_mm = 40.0) const;
