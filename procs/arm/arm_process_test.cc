@@ -300,8 +300,14 @@ TEST_F(ArmProcessTest, EstopStopsTheArmAndLatchesUntilReleased) {
   ASSERT_TRUE(wait_until([&] { return ack_for(42, arm_ack_t::STATUS_REJECTED).has_value(); }, 5s));
   EXPECT_NE(ack_for(42, arm_ack_t::STATUS_REJECTED)->reason.find("emergency stop"),
             std::string::npos);
+  // 20 states (200 ms) later the arm is where it stopped. "At rest" allows
+  // the servo's last settling (< 1 mm/s; 3.5e-6 rad was seen once), so the
+  // bound is 1e-3 rad: the refused move, had it started, would have turned
+  // a joint by more than 0.02 rad in that time.
+  const int64_t states = locked([&] { return seen_.states; });
+  ASSERT_TRUE(wait_until([&] { return locked([&] { return seen_.states > states + 20; }); }, 5s));
   const std::vector<double> still = joints();
-  for (size_t i = 0; i < 6; ++i) EXPECT_NEAR(still[i], stopped[i], 1e-6);
+  for (size_t i = 0; i < 6; ++i) EXPECT_NEAR(still[i], stopped[i], 1e-3);
 
   estop(false);
   // Release is asynchronous to comm: re-send a fresh command until accepted.
