@@ -266,20 +266,29 @@ std::string lan_shepherd_manifest(const std::string& name) {
   return write_temp_file(name, lan);
 }
 
+// The shepherd manifest's LCM URL once its ttl is 1.
+constexpr const char* kShepherdLanUrl = "udpm://239.255.76.67:7667?ttl=1";
+
+// The README's step 5: the sheriff brings manifest m up (headless, seed 7,
+// plus `extra`, e.g. the sheep) and exits when everything runs; its exit code.
+int shepherd_up(Processes& p, const std::string& m, std::vector<std::string> extra) {
+  std::vector<std::string> args = {m,        "--headless", "--wait-running", "--timeout", "40",
+                                   "--seed", "7"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return run_to_end(p, "up", args);
+}
+
 // deploy/shepherd.pbtxt as the README runs it on two machines: the manifest's
 // lcm line set to ttl: 1, the arm on the "arm" machine, the rest on
 // "planning", the sheriff on a third.
 TEST_F(Lan, ShepherdAcrossTwoMachines) {
   const std::string m = lan_shepherd_manifest("shepherd_lan.pbtxt");
   const std::string summary = write_temp_file("shepherd_lan_summary.json", "");
-  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  const std::string url = kShepherdLanUrl;
   Processes p;
   Watch watch(url);
   start_two_machines(p, 3, url, {"--quiet"});
-  ASSERT_EQ(run_to_end(p, "up",
-                       {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
-                        "--sheep", "1", "--summary", summary}),
-            0);
+  ASSERT_EQ(shepherd_up(p, m, {"--sheep", "1", "--summary", summary}), 0);
   // The arm (on its machine) publishes ARM_STATE; it reaches this one.
   ASSERT_TRUE(wait_until([&] { return watch.arm_states() > 100; }, seconds(10)));
 
@@ -340,14 +349,11 @@ TEST_F(Lan, ShepherdAcrossTwoMachines) {
 // README's Performance section) end with every sheep on the field.
 TEST_F(Lan, ThreeSheepStayOnTheFieldAcrossTwoMachines) {
   const std::string m = lan_shepherd_manifest("shepherd_herd.pbtxt");
-  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  const std::string url = kShepherdLanUrl;
   Processes p;
   Watch watch(url);
   start_two_machines(p, 5, url, {"--quiet"});
-  ASSERT_EQ(run_to_end(p, "up",
-                       {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
-                        "--sheep", "3", "--sheep-speed", "8"}),
-            0);
+  ASSERT_EQ(shepherd_up(p, m, {"--sheep", "3", "--sheep-speed", "8"}), 0);
   ASSERT_TRUE(wait_until([&] { return watch.herd().sim_time_s >= 60.0; }, seconds(90)))
       << "simulated time reached only " << watch.herd().sim_time_s << " s";
   const auto herd = watch.herd();
@@ -366,14 +372,11 @@ TEST_F(Lan, ThreeSheepStayOnTheFieldAcrossTwoMachines) {
 // retransmissions are answered as repeats).
 TEST_F(Lan, ShepherdWithFivePercentLossOnTheArmLink) {
   const std::string m = lan_shepherd_manifest("shepherd_loss.pbtxt");
-  const std::string url = "udpm://239.255.76.67:7667?ttl=1";
+  const std::string url = kShepherdLanUrl;
   Processes p;
   Watch watch(url);
   start_two_machines(p, 4, url);
-  ASSERT_EQ(run_to_end(p, "up",
-                       {m, "--headless", "--wait-running", "--timeout", "40", "--seed", "7",
-                        "--sheep", "2"}),
-            0);
+  ASSERT_EQ(shepherd_up(p, m, {"--sheep", "2"}), 0);
   const std::string in_arm = "nsenter -t " + std::to_string(watch.deputy_pid("arm")) + " -n ";
   run(in_arm + "iptables -A INPUT -i eth0 -m statistic --mode random --probability 0.05 -j DROP");
   run(in_arm + "iptables -A OUTPUT -o eth0 -m statistic --mode random --probability 0.05 -j DROP");
