@@ -7,6 +7,8 @@
 //   ephor-planner [--planner single|multi|lookahead] [--arm-speed-mm-s S]
 //                 [--calibration FILE] [process flags]
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -59,20 +61,27 @@ ephor::calibration::Plane to_calibration_plane(planner::Plane p) {
 // motion_done events, written by the LCM thread, drained by the plan job.
 class DoneQueue {
  public:
-  void push(int64_t goal_id, bool ok) {
+  struct Done {
+    int64_t goal_id;
+    bool ok;
+    // Capture time (utime) of the newest OBJECTS received before this
+    // motion_done: a goal after it must come from a newer frame.
+    int64_t objects_utime;
+  };
+  void push(const Done& done) {
     std::lock_guard<std::mutex> lock(mutex_);
-    events_.emplace_back(goal_id, ok);
+    events_.push_back(done);
   }
-  std::vector<std::pair<int64_t, bool>> take() {
+  std::vector<Done> take() {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::vector<std::pair<int64_t, bool>> out;
+    std::vector<Done> out;
     out.swap(events_);
     return out;
   }
 
  private:
   std::mutex mutex_;
-  std::vector<std::pair<int64_t, bool>> events_;
+  std::vector<Done> events_;
 };
 
 // One planning job: newest objects and arm state in, at most one goal out.
@@ -98,15 +107,20 @@ class PlanJob {
   void operator()() {
     const int64_t start_ns = ephor::mono_ns();
     apply_planner_cmd();
-    for (const auto& [goal_id, ok] : done_->take()) {
-      if (!planner_->on_motion_done(goal_id - goal_id_offset_, ok)) {
-        spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", goal_id);
-      } else if (!ok) {
-        spdlog::debug("goal {} failed; replanning after a back-off", goal_id);
+    for (const auto& d : done_->take()) {
+      if (!planner_->on_motion_done(d.goal_id - goal_id_offset_, d.ok)) {
+        spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", d.goal_id);
+      } else if (!d.ok) {
+        spdlog::debug("goal {} failed; replanning after a back-off", d.goal_id);
       }
+      stale_until_utime_ = std::max(stale_until_utime_, d.objects_utime);
     }
     const auto objects = objects_->latest();
     if (!objects) return;  // nothing seen yet (a motion_done before the first objects)
+    // A job released by a frame that came before the motion_done (queued
+    // behind it) waits for the next frame: every goal after a motion comes
+    // from a frame newer than its end.
+    if (objects->utime <= stale_until_utime_) return;
     planner::Scene scene;
     scene.now_s = static_cast<double>(start_ns) * 1e-9;
     scene.arm = arm_model_;
@@ -251,6 +265,7 @@ class PlanJob {
   planner::ArmModel arm_model_;
   ephor::geometry::Workcell workcell_;
   std::shared_ptr<ephor::Mailbox<ephor::objects_t>> objects_;
+  int64_t stale_until_utime_ = INT64_MIN;  // see DoneQueue::Done::objects_utime
   std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state_;
   std::shared_ptr<ephor::Mailbox<ephor::planner_cmd_t>> planner_cmd_;
   std::shared_ptr<DoneQueue> done_;
@@ -321,8 +336,10 @@ int main(int argc, char** argv) {
                                     });
     bus.subscribe<ephor::motion_done_t>(
         ephor::channels::kMotionDone,
-        [done, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {
-          done->push(msg.goal_id, msg.status == ephor::motion_done_t::STATUS_DONE);
+        [done, objects, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {
+          const auto seen = objects->latest();
+          done->push({msg.goal_id, msg.status == ephor::motion_done_t::STATUS_DONE,
+                      seen ? seen->utime : INT64_MIN});
           // The first failures in full, then every 100th (a broken arm fails every goal).
           if (msg.status != ephor::motion_done_t::STATUS_DONE &&
               (++*failures <= 20 || *failures % 100 == 0)) {
