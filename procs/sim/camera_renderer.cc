@@ -9,7 +9,7 @@
 namespace ephor::sim {
 namespace {
 
-constexpr size_t kNoiseTableSize = size_t{1} << 20;  // > 4 frames of samples
+constexpr size_t kNoiseTableSize = size_t{1} << 20;  // > 4 frames of 512 x 482 samples
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("sim camera config: " + what);
@@ -85,7 +85,7 @@ CameraRenderer::CameraRenderer(CameraConfig config, const WorldConfig& world)
 
   std::normal_distribution<float> n01(0.0f, 1.0f);
   std::mt19937_64 noise_rng(config_.seed ^ 0x9e3779b97f4a7c15ULL);
-  noise_table_.resize(kNoiseTableSize);
+  noise_table_.resize(std::max(kNoiseTableSize, 2 * n));
   for (float& x : noise_table_) x = n01(noise_rng);
 }
 
@@ -182,9 +182,34 @@ void CameraRenderer::blend_capsule(const Capsule2& c, double level) {
   const int v0 = std::max(0, static_cast<int>(std::floor(std::min(c.a.y(), c.b.y()) - r)));
   const int v1 = std::min(h - 1, static_cast<int>(std::ceil(std::max(c.a.y(), c.b.y()) + r)));
   const float lv = static_cast<float>(level);
+  const Eigen::Vector2d ab = c.b - c.a;
   for (int v = v0; v <= v1; ++v) {
     float* row = scene_.data() + static_cast<size_t>(v) * static_cast<size_t>(w);
-    for (int u = u0; u <= u1; ++u) {
+    // Where row v can meet the capsule: the hull of the two end discs and the
+    // band within r of the segment's line (a superset of the capsule), so a
+    // long diagonal link does not cost its whole bounding box.
+    double lo = u1 + 1.0, hi = u0 - 1.0;
+    auto take = [&](double from, double to) {
+      lo = std::min(lo, from);
+      hi = std::max(hi, to);
+    };
+    for (const Eigen::Vector2d& end : {c.a, c.b}) {
+      const double dy = v - end.y();
+      if (std::abs(dy) <= r) {
+        const double half = std::sqrt(r * r - dy * dy);
+        take(end.x() - half, end.x() + half);
+      }
+    }
+    if (std::abs(ab.y()) > 1e-9) {  // within r of the segment's line
+      const double uc = c.a.x() + (v - c.a.y()) / ab.y() * ab.x();
+      const double half = r * ab.norm() / std::abs(ab.y());
+      take(uc - half, uc + half);
+    } else {
+      take(u0, u1);
+    }
+    const int from = std::max(u0, static_cast<int>(std::floor(lo)));
+    const int to = std::min(u1, static_cast<int>(std::ceil(hi)));
+    for (int u = from; u <= to; ++u) {
       const float cov = coverage(capsule_depth(c.a, c.b, c.ra, c.rb, Eigen::Vector2d(u, v)));
       if (cov > 0.0f) blend(row[u], lv, cov);
     }
@@ -266,18 +291,21 @@ std::vector<MarkView> CameraRenderer::render(const std::vector<SheepState>& shee
       blend_disc(cam.project(t.x(), t.y(), t.z()), light->radius_px, light->level);
   }
 
+  // One pass a compiler vectorises: no wrap of the noise index (the table
+  // holds more than four frames, so a frame's samples are one run of it), and
+  // rounding as floor(g + 0.5) after clamping, which equals lround for the
+  // clamped range.
   const size_t n = scene_.size();
   image.resize(n);
   const float sigma = static_cast<float>(config_.noise_sigma);
-  std::uniform_int_distribution<size_t> start(0, kNoiseTableSize - 1);
-  size_t k = start(rng_);
+  std::uniform_int_distribution<size_t> start(0, noise_table_.size() - n);
+  const float* noise = noise_table_.data() + start(rng_);
+  const float* gain = gain_.data();
+  const float* scene = scene_.data();
+  uint8_t* out = image.data();
   for (size_t i = 0; i < n; ++i) {
-    float g = gain_[i] * scene_[i];
-    if (sigma > 0.0f) {
-      g += sigma * noise_table_[k];
-      k = (k + 1) & (kNoiseTableSize - 1);
-    }
-    image[i] = static_cast<uint8_t>(std::clamp(std::lround(g), 0L, 255L));
+    const float g = gain[i] * scene[i] + sigma * noise[i] + 0.5f;
+    out[i] = static_cast<uint8_t>(static_cast<int>(std::clamp(g, 0.0f, 255.0f)));
   }
   return views;
 }

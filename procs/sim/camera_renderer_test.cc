@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <gtest/gtest.h>
 
@@ -63,6 +64,35 @@ TEST(CameraRenderer, FrameHasTheCameraSizeAndTheDocumentedLevels) {
   EXPECT_GT(mark, 200);
   // The mark is about 16 px across.
   EXPECT_NEAR(2.0 * views[0].radius_px, 15.6, 0.5);
+}
+
+// An arm link covers the capsule's area in the image at every angle: near
+// horizontal (where its band is as wide as its bounding box) as well as steep
+// or diagonal (where only a band of each row is drawn).
+TEST(CameraRenderer, ArmLinkCoversItsCapsuleAtEveryAngle) {
+  CameraConfig cc;
+  cc.noise_sigma = 0.0;
+  WorldConfig wc;
+  CameraRenderer r(cc, wc);
+  const auto& cam = cc.camera;
+  const double z = 300.0, radius_mm = 30.0, length_mm = 300.0;
+  const double r_px = radius_mm * cam.px_per_mm(z), l_px = length_mm * cam.px_per_mm(z);
+  const double expected = std::numbers::pi * r_px * r_px + 2.0 * r_px * l_px;
+  for (const double deg : {0.0, 0.5, 10.0, 30.0, 45.0, 60.0, 89.5, 90.0, 135.0}) {
+    const double a = deg * std::numbers::pi / 180.0;
+    const Eigen::Vector3d mid(609.0, 457.0, z);
+    const Eigen::Vector3d half(0.5 * length_mm * std::cos(a), 0.5 * length_mm * std::sin(a), 0.0);
+    std::vector<uint8_t> bare, img;
+    r.render({}, {}, bare);
+    r.render({}, {{mid - half, mid + half, radius_mm}}, img);
+    // Arm 28 and field 40 grey levels (lighting within +-10 %): dark below 34,
+    // as are the surroundings off the table (hence the frame without the arm).
+    auto dark = [](const std::vector<uint8_t>& im) {
+      return static_cast<double>(
+          std::count_if(im.begin(), im.end(), [](uint8_t g) { return g < 34; }));
+    };
+    EXPECT_NEAR(dark(img) - dark(bare), expected, 0.03 * expected) << deg << " deg";
+  }
 }
 
 TEST(CameraRenderer, MarkCentroidsMatchTheProjectedTruth) {

@@ -80,15 +80,19 @@ class VisionTask {
  public:
   VisionTask(ephor::Bus& bus, ephor::vision::VisionPipeline& pipeline,
              std::shared_ptr<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>> frames,
-             std::shared_ptr<ephor::Mailbox<ephor::vision_cmd_t>> commands)
+             std::shared_ptr<ephor::Mailbox<ephor::vision_cmd_t>> commands,
+             std::chrono::microseconds frame_wait)
       : bus_(bus),
         pipeline_(pipeline),
         frames_(std::move(frames)),
-        commands_(std::move(commands)) {}
+        commands_(std::move(commands)),
+        frame_wait_(frame_wait) {}
 
   void run_job() {
     apply_newest_command();
-    const auto frame = frames_->take();
+    // Released at (about) the frame's arrival: a frame a little late is
+    // waited for, briefly, rather than left in the mailbox for a period.
+    const auto frame = frame_wait_.count() > 0 ? frames_->wait_take(frame_wait_) : frames_->take();
     if (!frame) return;  // no new frame since the last job
     const ephor::camera_frame_t& f = (*frame)->msg;
     std::string problem = check_frame(f);
@@ -187,6 +191,7 @@ class VisionTask {
   ephor::vision::VisionPipeline& pipeline_;
   std::shared_ptr<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>> frames_;
   std::shared_ptr<ephor::Mailbox<ephor::vision_cmd_t>> commands_;
+  std::chrono::microseconds frame_wait_;
   ephor::blobs_t msg_{};
   int64_t bad_frames_ = 0;
   int64_t bad_commands_ = 0;
@@ -232,10 +237,16 @@ int main(int argc, char** argv) {
   app.add_option("--fraction", cfg.threshold.fraction,
                  "threshold position between field and mark peaks (0..1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  double phase_lag_ms = 1.0;
+  double phase_lag_ms = 0.0;
   app.add_option(
-      "--phase-lag-ms", phase_lag_ms,
-      "release the periodic task this long after each frame arrives (< 0: free-running phase)");
+         "--phase-lag-ms", phase_lag_ms,
+         "release the periodic task this long after each frame arrives (< 0: free-running phase)")
+      ->check(CLI::Range(-1.0, 1000.0));
+  double frame_wait_ms = 4.0;
+  app.add_option("--frame-wait-ms", frame_wait_ms,
+                 "periodic task: wait this long for a frame not yet arrived at release (0: "
+                 "do not wait)")
+      ->check(CLI::Range(0.0, 30.0));
   std::string foreground = "bright";
   app.add_option("--foreground", foreground,
                  "what an object is: bright on dark (the field), dark on bright, or motion "
@@ -281,7 +292,10 @@ int main(int argc, char** argv) {
         });
     auto commands = bus.mailbox<ephor::vision_cmd_t>(ephor::channels::kVisionCmd);
 
-    VisionTask task(bus, pipeline, frames, commands);
+    const auto frame_wait =
+        on_frame ? std::chrono::microseconds(0)
+                 : std::chrono::microseconds(static_cast<int64_t>(frame_wait_ms * 1e3));
+    VisionTask task(bus, pipeline, frames, commands, frame_wait);
     const auto period = std::chrono::nanoseconds(static_cast<int64_t>(period_ms * 1e6));
     if (on_frame) {
       runtime.add_triggered("vision", period, [&task] { task.run_job(); });
