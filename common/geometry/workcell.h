@@ -28,11 +28,16 @@ struct Workcell {
   // Rotation of the base frame about F's z axis, rad (base x = F x at 0).
   // Joint 1's +-160 deg leaves a wedge that one arm configuration cannot
   // reach; reaching into it needs a configuration change, a 12-14 s swing of
-  // the tool over the top at the 300 mm/s tool cap. Turning the base moves
-  // the wedge: at 100 deg one configuration covers 95.8 % of the usable field
-  // (86.1 % at 0), but the rest is the band along the near long edge where
-  // leaving sheep must be met, and a 120 s 4-sheep run (seed 7) still made 4
-  // configuration changes (11 escapes vs 8 at 0 deg), so 0 stays the default.
+  // the tool over the top at the 300 mm/s tool cap. The yaw moves the wedge.
+  // On the kinematic stand-in with the PUMA (ephor-bench-planner --arm puma
+  // --planner multi, 30 seeds x 10 min, 4 sheep; measured 2026-11-24) 0 deg
+  // (wedge across the left short edge) gave 22.2 escapes per 10 min, -90 deg
+  // (across the far long edge) 18.6, and +90, -57, -77, -103, -115 deg 22.5,
+  // 22.0, 20.3, 19.9, 22.8. -90 was not kept: on the whole system its wedge
+  // also covers the upper right quadrant near the column, where the seed-7
+  // one-sheep run (shepherd_integration_test) then needs a change at once
+  // and loses its sheep, and the seed-7 four-sheep 120 s run gave the same
+  // 9 escapes as 0 deg. An earlier 100 deg trial gave 11 against 8.
   double base_yaw_rad = 0.0;
   double pedestal_radius_mm = 70.0;
   double tool_length_mm = 100.0;  // flange to manipulator tip along the approach axis
