@@ -7,7 +7,8 @@
 //
 //   ephor-vision [--period-ms 33.333] [--k 4] [--mode blobify|trackify] [--scan full|axis]
 //                [--threshold -1] [--band-px 16] [--full-every 15] [--min-area 10]
-//                [--foreground bright|dark|motion] [--on-frame]
+//                [--foreground bright|dark|motion] [--phase-lag-ms 0] [--frame-wait-ms 4]
+//                [--on-frame]
 //
 // --on-frame (deterministic replay, tools/ephor replay): the vision task is
 // a triggered task released once per received frame instead of a periodic
