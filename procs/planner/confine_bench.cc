@@ -7,21 +7,33 @@
 //   ephor-bench-planner [--minutes 10] [--seeds 3] [--max-sheep 8]
 //                       [--lag-s 0.15] [--hide-mm 150] [--arm point|puma]
 //                       [--sheep-speed 30] [--json FILE]
+//   ephor-bench-planner --start GT.jsonl [--minutes 2] [--arm point|puma] ...
 //
 // --arm point: the tool is a point moving straight at 300 mm/s (the
 // planner's own model of the arm); --arm puma: the PUMA 560 as ephor-arm
 // moves it (PumaArmMotion: configuration changes, detours, speed scaling).
+//
+// --start: instead of random sheep, one run per planner from the sheep of a
+// recorded run's first GROUND_TRUTH message (the file `tools/ephor log
+// export run.lcm --channel GROUND_TRUTH --json --out GT.jsonl` writes; its
+// first line is used), printing when each escape happened. Asks whether a
+// planner with this arm could have kept that run's start (the stand-in has
+// no heading wander, collisions or pedestal).
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "procs/planner/herd_types.h"
 #include "procs/planner/kinematic_field.h"
 #include "procs/planner/planner.h"
 #include "procs/planner/puma_arm_motion.h"
@@ -39,6 +51,7 @@ struct Run {
   int joint_space_moves = 0;
   double joint_space_s = 0.0;
   std::vector<double> job_us;
+  std::vector<double> escape_times_s;
 };
 
 struct Options {
@@ -46,27 +59,67 @@ struct Options {
   double hide_mm = 150.0;
   std::string arm = "point";
   double sheep_speed_mm_s = 30.0;
+  double base_yaw_deg = 0.0;      // the PUMA's mounting, Workcell::base_yaw_rad in degrees
+  double arm_speed_mm_s = 300.0;  // the point's speed, or the PUMA's tool-speed cap
 };
 
-Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o) {
+// The sheep of the first GROUND_TRUTH row of a `tools/ephor log export
+// --json` file. Throws std::runtime_error naming the problem.
+std::vector<ephor::planner::Sheep> sheep_from_ground_truth(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("--start: cannot read " + path);
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error("--start: " + path + " is empty");
+  const auto row = nlohmann::json::parse(line, nullptr, false);
+  if (row.is_discarded() || !row.contains("msg") || !row["msg"].contains("sheep") ||
+      !row["msg"]["sheep"].is_array())
+    throw std::runtime_error("--start: the first line of " + path +
+                             " is not a GROUND_TRUTH row of `tools/ephor log export --json`");
+  std::vector<ephor::planner::Sheep> out;
+  for (const auto& s : row["msg"]["sheep"]) {
+    ephor::planner::Sheep sh;
+    sh.id = s.value("id", -1);
+    sh.x_mm = s.value("x_mm", 0.0);
+    sh.y_mm = s.value("y_mm", 0.0);
+    const double heading = s.value("heading_rad", 0.0), speed = s.value("speed_mm_s", 0.0);
+    sh.vx_mm_s = speed * std::cos(heading);
+    sh.vy_mm_s = speed * std::sin(heading);
+    if (!std::isfinite(sh.x_mm) || !std::isfinite(sh.y_mm) || !std::isfinite(sh.vx_mm_s) ||
+        !std::isfinite(sh.vy_mm_s))
+      throw std::runtime_error("--start: sheep " + std::to_string(sh.id) + " in " + path +
+                               " is not finite");
+    if (s.value("on_field", true)) out.push_back(sh);
+  }
+  if (out.empty()) throw std::runtime_error("--start: no sheep on the field in " + path);
+  return out;
+}
+
+Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o,
+        const std::vector<ephor::planner::Sheep>* start = nullptr) {
   KinematicFieldConfig fc;
   fc.sheep_speed_mm_s = o.sheep_speed_mm_s;
+  fc.workcell.base_yaw_rad = o.base_yaw_deg * std::numbers::pi / 180.0;
   std::shared_ptr<ephor::planner::PumaArmMotion> puma;
   if (o.arm == "puma")
-    fc.arm_motion = puma = std::make_shared<ephor::planner::PumaArmMotion>(fc.workcell);
+    fc.arm_motion = puma =
+        std::make_shared<ephor::planner::PumaArmMotion>(fc.workcell, o.arm_speed_mm_s);
+  fc.arm_speed_mm_s = o.arm_speed_mm_s;
   fc.sheep = sheep;
   fc.seed = seed;
   fc.velocity_lag_s = o.lag_s;
   fc.hide_radius_mm = o.hide_mm;
-  KinematicField field{fc};
+  KinematicField field = start ? KinematicField(fc, *start) : KinematicField(fc);
   ephor::planner::PlannerConfig pc;
   pc.workcell = fc.workcell;
   auto planner = ephor::planner::make_planner(kind, pc);
-  const ArmModel arm;
+  ArmModel arm;
+  arm.speed_mm_s = o.arm_speed_mm_s;  // what the planner assumes (ephor-planner's arm speed)
   const double dt = 1.0 / 30.0;
   Run out;
   for (int i = 0; i < static_cast<int>(seconds / dt); ++i) {
+    const int escaped_before = field.escapes();
     field.step(dt);
+    if (field.escapes() > escaped_before) out.escape_times_s.push_back((i + 1) * dt);
     for (const auto& [id, ok] : field.take_done()) planner->on_motion_done(id, ok);
     const auto scene = field.scene(arm);
     const auto t0 = std::chrono::steady_clock::now();
@@ -116,13 +169,66 @@ int main(int argc, char** argv) {
   app.add_option("--planner", kinds, "planner kinds to run (default: all)")
       ->check(CLI::IsMember(ephor::planner::planner_kinds()));
   app.add_option("--json", json_path, "write the results here");
+  app.add_option("--base-yaw-deg", o.base_yaw_deg,
+                 "--arm puma: the arm's base turned by this about the vertical, deg (where joint "
+                 "1's wedge falls)")
+      ->check(CLI::Range(-180.0, 180.0));
+  app.add_option("--arm-speed", o.arm_speed_mm_s,
+                 "the point's speed or the PUMA's tool-speed cap, mm/s (the arm's default: 300)")
+      ->check(CLI::Range(10.0, 2000.0));
+  std::string start_path;
+  app.add_option("--start", start_path,
+                 "one run per planner from the sheep of this GROUND_TRUTH export (first line)");
   CLI11_PARSE(app, argc, argv);
+
+  if (!start_path.empty()) {
+    std::vector<ephor::planner::Sheep> start;
+    try {
+      start = sheep_from_ground_truth(start_path);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      return 1;
+    }
+    std::printf(
+        "%zu sheep from %s, %.1f simulated min (lag %.2f s, hidden %.0f mm; arm %s at %.0f mm/s, "
+        "base yaw %.0f deg)\n",
+        start.size(), start_path.c_str(), minutes, o.lag_s, o.hide_mm, o.arm.c_str(),
+        o.arm_speed_mm_s, o.base_yaw_deg);
+    nlohmann::json runs = nlohmann::json::array();
+    for (const std::string& kind : kinds) {
+      const Run r = run(kind, static_cast<int>(start.size()), 1, minutes * 60.0, o, &start);
+      std::printf("%-10s escapes %d, turns %d; escapes at", kind.c_str(), r.escapes, r.touches);
+      for (const double t : r.escape_times_s) std::printf(" %.1f", t);
+      std::printf(r.escape_times_s.empty() ? " none\n" : " s\n");
+      runs.push_back({{"planner", kind},
+                      {"escapes", r.escapes},
+                      {"touches", r.touches},
+                      {"escape_times_s", r.escape_times_s}});
+    }
+    if (!json_path.empty()) {
+      std::ofstream out(json_path);
+      out << nlohmann::json{{"start", start_path},
+                            {"arm", o.arm},
+                            {"arm_speed_mm_s", o.arm_speed_mm_s},
+                            {"base_yaw_deg", o.base_yaw_deg},
+                            {"minutes", minutes},
+                            {"runs", runs}}
+                 .dump(2)
+          << "\n";
+      if (!out) {
+        std::fprintf(stderr, "cannot write %s\n", json_path.c_str());
+        return 1;
+      }
+    }
+    return 0;
+  }
 
   nlohmann::json results = nlohmann::json::array();
   std::printf(
       "escapes per 10 simulated min (mean of %d seeds, %.1f min each; lag %.2f s, hidden %.0f "
-      "mm; arm %s; sheep %.0f mm/s)\n",
-      seeds, minutes, o.lag_s, o.hide_mm, o.arm.c_str(), o.sheep_speed_mm_s);
+      "mm; arm %s at %.0f mm/s, base yaw %.0f deg; sheep %.0f mm/s)\n",
+      seeds, minutes, o.lag_s, o.hide_mm, o.arm.c_str(), o.arm_speed_mm_s, o.base_yaw_deg,
+      o.sheep_speed_mm_s);
   std::printf("%-10s", "planner");
   for (int n = 1; n <= max_sheep; ++n) std::printf("  %2d sheep", n);
   std::printf("   job p50/p99/max us\n");
@@ -165,6 +271,8 @@ int main(int argc, char** argv) {
     out << nlohmann::json{{"lag_s", o.lag_s},
                           {"hide_mm", o.hide_mm},
                           {"arm", o.arm},
+                          {"arm_speed_mm_s", o.arm_speed_mm_s},
+                          {"base_yaw_deg", o.base_yaw_deg},
                           {"sheep_speed_mm_s", o.sheep_speed_mm_s},
                           {"runs", results}}
                .dump(2)

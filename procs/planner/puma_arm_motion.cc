@@ -6,8 +6,21 @@
 
 namespace ephor::planner {
 
+namespace {
+
+arm::MotionPlannerConfig with_tool_cap(double speed_mm_s) {
+  arm::MotionPlannerConfig c;
+  c.max_speed_mm_s = speed_mm_s;  // as ephor-arm --max-speed-mm-s
+  return c;
+}
+
+}  // namespace
+
 PumaArmMotion::PumaArmMotion(const geometry::Workcell& cell, double speed_mm_s)
-    : cell_(cell), speed_mm_s_(speed_mm_s), planner_(cell), q_(arm::park_joints(cell)) {}
+    : cell_(cell),
+      speed_mm_s_(speed_mm_s),
+      planner_(cell, with_tool_cap(speed_mm_s)),
+      q_(arm::park_joints(cell)) {}
 
 bool PumaArmMotion::start(double x_mm, double y_mm, double z_mm, double theta_rad) {
   const arm::MotionPlan plan =
