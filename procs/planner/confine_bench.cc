@@ -9,9 +9,10 @@
 //                       [--sheep-speed 30] [--json FILE]
 //   ephor-bench-planner --start GT.jsonl [--minutes 2] [--arm point|puma] ...
 //
-// --arm point: the tool is a point moving straight at 300 mm/s (the
-// planner's own model of the arm); --arm puma: the PUMA 560 as ephor-arm
-// moves it (PumaArmMotion: configuration changes, detours, speed scaling).
+// --arm point: the tool is a point moving straight at --arm-speed (300 mm/s,
+// the planner's own model of the arm); --arm puma: the PUMA 560 as ephor-arm
+// moves it (PumaArmMotion: configuration changes, detours, speed scaling)
+// with its tool capped at --arm-speed, its base turned by --base-yaw-deg.
 //
 // --start: instead of random sheep, one run per planner from the sheep of a
 // recorded run's first GROUND_TRUTH message (the file `tools/ephor log
@@ -138,6 +139,13 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
   return out;
 }
 
+bool write_json(const std::string& path, const nlohmann::json& doc) {
+  std::ofstream out(path);
+  out << doc.dump(2) << "\n";
+  if (!out) std::fprintf(stderr, "cannot write %s\n", path.c_str());
+  return static_cast<bool>(out);
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -205,22 +213,13 @@ int main(int argc, char** argv) {
                       {"touches", r.touches},
                       {"escape_times_s", r.escape_times_s}});
     }
-    if (!json_path.empty()) {
-      std::ofstream out(json_path);
-      out << nlohmann::json{{"start", start_path},
-                            {"arm", o.arm},
-                            {"arm_speed_mm_s", o.arm_speed_mm_s},
-                            {"base_yaw_deg", o.base_yaw_deg},
-                            {"minutes", minutes},
-                            {"runs", runs}}
-                 .dump(2)
-          << "\n";
-      if (!out) {
-        std::fprintf(stderr, "cannot write %s\n", json_path.c_str());
-        return 1;
-      }
-    }
-    return 0;
+    const nlohmann::json doc{{"start", start_path},
+                             {"arm", o.arm},
+                             {"arm_speed_mm_s", o.arm_speed_mm_s},
+                             {"base_yaw_deg", o.base_yaw_deg},
+                             {"minutes", minutes},
+                             {"runs", runs}};
+    return json_path.empty() || write_json(json_path, doc) ? 0 : 1;
   }
 
   nlohmann::json results = nlohmann::json::array();
@@ -266,21 +265,13 @@ int main(int argc, char** argv) {
     std::printf("   %.1f/%.1f/%.1f\n", percentile(all_us, 0.5), percentile(all_us, 0.99),
                 percentile(all_us, 1.0));
   }
-  if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    out << nlohmann::json{{"lag_s", o.lag_s},
-                          {"hide_mm", o.hide_mm},
-                          {"arm", o.arm},
-                          {"arm_speed_mm_s", o.arm_speed_mm_s},
-                          {"base_yaw_deg", o.base_yaw_deg},
-                          {"sheep_speed_mm_s", o.sheep_speed_mm_s},
-                          {"runs", results}}
-               .dump(2)
-        << "\n";
-    if (!out) {
-      std::fprintf(stderr, "cannot write %s\n", json_path.c_str());
-      return 1;
-    }
-  }
+  const nlohmann::json doc{{"lag_s", o.lag_s},
+                           {"hide_mm", o.hide_mm},
+                           {"arm", o.arm},
+                           {"arm_speed_mm_s", o.arm_speed_mm_s},
+                           {"base_yaw_deg", o.base_yaw_deg},
+                           {"sheep_speed_mm_s", o.sheep_speed_mm_s},
+                           {"runs", results}};
+  if (!json_path.empty() && !write_json(json_path, doc)) return 1;
   return 0;
 }
