@@ -7,8 +7,8 @@
 //
 //   ephor-vision [--period-ms 33.333] [--k 4] [--mode blobify|trackify] [--scan full|axis]
 //                [--threshold -1] [--band-px 16] [--full-every 15] [--min-area 10]
-//                [--foreground bright|dark|motion] [--phase-lag-ms 0] [--frame-wait-ms 4]
-//                [--on-frame]
+//                [--foreground bright|dark|motion] [--phase-lag-ms -3] [--frame-wait-ms 8]
+//                [--free-running] [--on-frame]
 //
 // --on-frame (deterministic replay, tools/ephor replay): the vision task is
 // a triggered task released once per received frame instead of a periodic
@@ -238,16 +238,23 @@ int main(int argc, char** argv) {
   app.add_option("--fraction", cfg.threshold.fraction,
                  "threshold position between field and mark peaks (0..1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  double phase_lag_ms = 0.0;
-  app.add_option(
-         "--phase-lag-ms", phase_lag_ms,
-         "release the periodic task this long after each frame arrives (< 0: free-running phase)")
-      ->check(CLI::Range(-1.0, 1000.0));
-  double frame_wait_ms = 4.0;
+  // Releases are kept ahead of frame arrival and the job waits for its frame:
+  // a frame that arrives up to (wait + lag) after the previous one's period
+  // is still taken at once, and one late frame (the first ones at start-up)
+  // does not put the next, punctual one a period behind.
+  double phase_lag_ms = -3.0;
+  app.add_option("--phase-lag-ms", phase_lag_ms,
+                 "release the periodic task this long after each frame's arrival (negative: "
+                 "before the next one is due)")
+      ->check(CLI::Range(-20.0, 20.0));
+  double frame_wait_ms = 8.0;
   app.add_option("--frame-wait-ms", frame_wait_ms,
                  "periodic task: wait this long for a frame not yet arrived at release (0: "
                  "do not wait)")
       ->check(CLI::Range(0.0, 30.0));
+  bool free_running = false;
+  app.add_flag("--free-running", free_running,
+               "periodic task: keep its own phase instead of following frame arrival");
   std::string foreground = "bright";
   app.add_option("--foreground", foreground,
                  "what an object is: bright on dark (the field), dark on bright, or motion "
@@ -279,7 +286,7 @@ int main(int argc, char** argv) {
     auto frames = std::make_shared<ephor::Mailbox<std::shared_ptr<const ReceivedFrame>>>();
     bus.subscribe<ephor::camera_frame_t>(
         ephor::channels::kCamera,
-        [frames, &runtime, lag_ns, on_frame](const ephor::camera_frame_t& m) {
+        [frames, &runtime, lag_ns, on_frame, free_running](const ephor::camera_frame_t& m) {
           // One copy out of LCM's decode buffer; the task then takes a pointer.
           const int64_t now = ephor::mono_ns();
           frames->put(std::make_shared<const ReceivedFrame>(ReceivedFrame{m, now}));
@@ -287,9 +294,10 @@ int main(int argc, char** argv) {
             runtime.trigger("vision");
             return;
           }
-          // Keep the periodic task's phase locked just after frame arrival, so
-          // a frame does not wait up to a whole period in the mailbox.
-          if (lag_ns >= 0) runtime.align_release("vision", now + lag_ns);
+          // Keep the periodic task's phase locked to frame arrival (by default
+          // released 3 ms before the next frame is due, waiting for it), so a
+          // frame does not wait up to a whole period in the mailbox.
+          if (!free_running) runtime.align_release("vision", now + lag_ns);
         });
     auto commands = bus.mailbox<ephor::vision_cmd_t>(ephor::channels::kVisionCmd);
 
