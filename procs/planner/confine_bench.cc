@@ -23,11 +23,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -38,6 +36,7 @@
 #include "procs/planner/kinematic_field.h"
 #include "procs/planner/planner.h"
 #include "procs/planner/puma_arm_motion.h"
+#include "procs/planner/recorded_start.h"
 
 namespace {
 
@@ -63,37 +62,6 @@ struct Options {
   double base_yaw_deg = 0.0;      // the PUMA's mounting, Workcell::base_yaw_rad in degrees
   double arm_speed_mm_s = 300.0;  // the point's speed, or the PUMA's tool-speed cap
 };
-
-// The sheep of the first GROUND_TRUTH row of a `tools/ephor log export
-// --json` file. Throws std::runtime_error naming the problem.
-std::vector<ephor::planner::Sheep> sheep_from_ground_truth(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("--start: cannot read " + path);
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error("--start: " + path + " is empty");
-  const auto row = nlohmann::json::parse(line, nullptr, false);
-  if (row.is_discarded() || !row.contains("msg") || !row["msg"].contains("sheep") ||
-      !row["msg"]["sheep"].is_array())
-    throw std::runtime_error("--start: the first line of " + path +
-                             " is not a GROUND_TRUTH row of `tools/ephor log export --json`");
-  std::vector<ephor::planner::Sheep> out;
-  for (const auto& s : row["msg"]["sheep"]) {
-    ephor::planner::Sheep sh;
-    sh.id = s.value("id", -1);
-    sh.x_mm = s.value("x_mm", 0.0);
-    sh.y_mm = s.value("y_mm", 0.0);
-    const double heading = s.value("heading_rad", 0.0), speed = s.value("speed_mm_s", 0.0);
-    sh.vx_mm_s = speed * std::cos(heading);
-    sh.vy_mm_s = speed * std::sin(heading);
-    if (!std::isfinite(sh.x_mm) || !std::isfinite(sh.y_mm) || !std::isfinite(sh.vx_mm_s) ||
-        !std::isfinite(sh.vy_mm_s))
-      throw std::runtime_error("--start: sheep " + std::to_string(sh.id) + " in " + path +
-                               " is not finite");
-    if (s.value("on_field", true)) out.push_back(sh);
-  }
-  if (out.empty()) throw std::runtime_error("--start: no sheep on the field in " + path);
-  return out;
-}
 
 Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o,
         const std::vector<ephor::planner::Sheep>* start = nullptr) {
@@ -192,9 +160,9 @@ int main(int argc, char** argv) {
   if (!start_path.empty()) {
     std::vector<ephor::planner::Sheep> start;
     try {
-      start = sheep_from_ground_truth(start_path);
+      start = ephor::planner::sheep_from_ground_truth_file(start_path);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "%s\n", e.what());
+      std::fprintf(stderr, "--start: %s\n", e.what());
       return 1;
     }
     std::printf(
