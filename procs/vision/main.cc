@@ -91,8 +91,9 @@ class VisionTask {
 
   void run_job() {
     apply_newest_command();
-    // Released at (about) the frame's arrival: a frame a little late is
-    // waited for, briefly, rather than left in the mailbox for a period.
+    // Released a little before the frame is due (--phase-lag-ms): the job
+    // waits for it, briefly, rather than leaving it in the mailbox for a
+    // whole period.
     const auto frame = frame_wait_.count() > 0 ? frames_->wait_take(frame_wait_) : frames_->take();
     if (!frame) return;  // no new frame since the last job
     const ephor::camera_frame_t& f = (*frame)->msg;
