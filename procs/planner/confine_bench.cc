@@ -20,11 +20,17 @@
 // first line is used), printing when each escape happened. Asks whether a
 // planner with this arm could have kept that run's start (the stand-in has
 // no heading wander, collisions or pedestal).
+//
+// Where the arm's time goes: the JSON has, per cell, the simulated time the
+// planner spent in each phase (moving, lowering, turning, raising, parking,
+// parked, holding) and, with --arm puma, the time of all moves and of the
+// joint-space paths among them; --start prints the phase shares.
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -50,8 +56,12 @@ struct Run {
   int moves = 0;  // --arm puma: moves, joint-space paths among them and their time
   int joint_space_moves = 0;
   double joint_space_s = 0.0;
+  double move_s = 0.0;  // --arm puma: the time of every move planned
   std::vector<double> job_us;
   std::vector<double> escape_times_s;
+  // Simulated time the planner spent in each phase (PlannerStatus::phase), s:
+  // where the arm's time goes (moving, lowering, turning, raising, parking...).
+  std::map<std::string, double> phase_s;
 };
 
 struct Options {
@@ -96,12 +106,14 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
     out.job_us.push_back(
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     if (goal) field.send(*goal);
+    out.phase_s[planner->status().phase] += dt;
   }
   out.escapes = field.escapes();
   if (puma) {
     out.moves = puma->moves();
     out.joint_space_moves = puma->joint_space_moves();
     out.joint_space_s = puma->joint_space_time_s();
+    out.move_s = puma->move_time_s();
   }
   out.touches = field.touches();
   return out;
@@ -176,10 +188,15 @@ int main(int argc, char** argv) {
       std::printf("%-10s escapes %d, turns %d; escapes at", kind.c_str(), r.escapes, r.touches);
       for (const double t : r.escape_times_s) std::printf(" %.1f", t);
       std::printf(r.escape_times_s.empty() ? " none\n" : " s\n");
+      std::printf("%-10s time by phase:", "");
+      for (const auto& [phase, t] : r.phase_s)
+        std::printf(" %s %.0f%%", phase.c_str(), 100.0 * t / (minutes * 60.0));
+      std::printf("\n");
       runs.push_back({{"planner", kind},
                       {"escapes", r.escapes},
                       {"touches", r.touches},
-                      {"escape_times_s", r.escape_times_s}});
+                      {"escape_times_s", r.escape_times_s},
+                      {"phase_time_s", r.phase_s}});
     }
     const nlohmann::json doc{{"start", start_path},
                              {"arm", o.arm},
@@ -208,6 +225,8 @@ int main(int argc, char** argv) {
       int moves = 0;
       int joint_space_moves = 0;
       double joint_space_s = 0.0;
+      double move_s = 0.0;
+      std::map<std::string, double> phase_s;
       for (int s = 1; s <= seeds; ++s) {
         const Run r = run(kind, n, static_cast<uint32_t>(s), minutes * 60.0, o);
         escapes += r.escapes;
@@ -215,6 +234,8 @@ int main(int argc, char** argv) {
         moves += r.moves;
         joint_space_moves += r.joint_space_moves;
         joint_space_s += r.joint_space_s;
+        move_s += r.move_s;
+        for (const auto& [phase, t] : r.phase_s) phase_s[phase] += t;
         all_us.insert(all_us.end(), r.job_us.begin(), r.job_us.end());
       }
       const double per10 = static_cast<double>(escapes) / seeds * (10.0 / minutes);
@@ -228,7 +249,9 @@ int main(int argc, char** argv) {
                          {"touches_total", touches},
                          {"arm_moves_total", moves},
                          {"joint_space_moves_total", joint_space_moves},
-                         {"joint_space_time_s_total", joint_space_s}});
+                         {"joint_space_time_s_total", joint_space_s},
+                         {"arm_move_time_s_total", move_s},
+                         {"phase_time_s_total", phase_s}});
     }
     std::printf("   %.1f/%.1f/%.1f\n", percentile(all_us, 0.5), percentile(all_us, 0.99),
                 percentile(all_us, 1.0));

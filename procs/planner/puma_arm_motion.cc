@@ -29,6 +29,7 @@ bool PumaArmMotion::start(double x_mm, double y_mm, double z_mm, double theta_ra
   trajectory_ = plan.trajectory;
   t_s_ = 0.0;
   ++moves_;
+  move_time_s_ += trajectory_.duration_s();
   if (plan.kind == arm::MotionKind::kJointSpace) {
     ++joint_space_moves_;
     joint_space_time_s_ += trajectory_.duration_s();

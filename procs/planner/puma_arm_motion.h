@@ -36,6 +36,7 @@ class PumaArmMotion : public ArmMotion {
   int moves() const { return moves_; }
   int joint_space_moves() const { return joint_space_moves_; }
   double joint_space_time_s() const { return joint_space_time_s_; }
+  double move_time_s() const { return move_time_s_; }  // of every move planned, s
 
  private:
   geometry::Workcell cell_;
@@ -47,6 +48,7 @@ class PumaArmMotion : public ArmMotion {
   int moves_ = 0;
   int joint_space_moves_ = 0;
   double joint_space_time_s_ = 0.0;
+  double move_time_s_ = 0.0;
 };
 
 }  // namespace ephor::planner

@@ -33,6 +33,7 @@ TEST(PumaArmMotionTest, AShortElevationMoveIsAStraightLineEndingAtTheGoal) {
   EXPECT_LT(t, 3.0);
   EXPECT_EQ(arm.moves(), 1);
   EXPECT_EQ(arm.joint_space_moves(), 0);
+  EXPECT_NEAR(arm.move_time_s(), t, 0.05) << "the bench's arm time is the trajectory's";
 }
 
 TEST(PumaArmMotionTest, AConfigurationChangeTakesTheArmSeconds) {
@@ -52,6 +53,8 @@ TEST(PumaArmMotionTest, AConfigurationChangeTakesTheArmSeconds) {
   const double t = run_to_end(arm);
   EXPECT_EQ(arm.joint_space_moves(), 1);
   EXPECT_GT(t, 8.0) << "a configuration change swings the arm over the top";
+  EXPECT_NEAR(arm.joint_space_time_s(), t, 0.05);
+  EXPECT_NEAR(arm.move_time_s(), t, 0.05);
   EXPECT_NEAR(arm.tool_mm()[0], gx, 1.0);
   EXPECT_NEAR(arm.tool_mm()[1], gy, 1.0);
 }
