@@ -21,6 +21,11 @@
 // the manifest, without LCM orders and with a restart policy of its own
 // (max_restarts = 0 unless --restart).
 //
+// At the end of a run it prints each process's resident memory (after a
+// warm-up, last, peak, growth per hour) and CPU time, sampled from /proc every
+// --usage-period-s; --usage FILE writes the same as JSON (UsageLog). A soak:
+// `--duration 3600 --usage usage.json`, then look at the growth column.
+//
 // --record FILE also runs Debian's lcm-logger (started first, so it is
 // stopped last and logs the others' final messages) on the same LCM URL:
 // every channel of the run goes to FILE (overwritten), for tools/ephor log.
@@ -30,6 +35,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -40,7 +46,9 @@
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "procs/deputy/deputy_core.h"
+#include "procs/deputy/process_usage.h"
 #include "procs/launcher/process_group.h"
+#include "procs/launcher/usage_log.h"
 
 namespace {
 
@@ -82,6 +90,9 @@ int main(int argc, char** argv) {
   bool headless = false;
   std::string record_path;
   bool restart = false;
+  std::string usage_path;
+  double usage_period_s = 10.0;
+  double usage_warmup_s = 60.0;
   app.add_option("manifest", manifest_path,
                  "deployment manifest (Protobuf text), e.g. deploy/shepherd.pbtxt")
       ->required();
@@ -101,6 +112,14 @@ int main(int argc, char** argv) {
   app.add_flag("--restart", restart,
                "restart crashed processes as a deputy does (backoff, at most 10 crashes in a row) "
                "instead of stopping everything");
+  app.add_option("--usage", usage_path,
+                 "write each process's memory and CPU over the run to FILE (JSON)");
+  app.add_option("--usage-period-s", usage_period_s, "sample memory and CPU this often, s")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--usage-warmup-s", usage_warmup_s,
+                 "memory growth is fitted to the samples after this much of each process's "
+                 "run, s")
+      ->check(CLI::NonNegativeNumber);
   app.allow_extras();
   app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
   CLI11_PARSE(app, argc, argv);
@@ -292,6 +311,22 @@ int main(int argc, char** argv) {
   };
 
   say("manifest " + manifest.name() + ", LCM " + url);
+  const int64_t t0_ns = mono_ns();
+  launcher::UsageLog usage_log(usage_warmup_s);
+  deputy::ProcessUsage usage;
+  int64_t next_usage_ns = t0_ns;
+  auto sample_usage = [&] {
+    const int64_t now = mono_ns();
+    std::vector<pid_t> alive;
+    for (const auto& row : core.table().rows()) {
+      if (row.pid == 0) continue;
+      alive.push_back(row.pid);
+      if (const auto u = usage.sample(row.pid, now))
+        usage_log.add(row.order.name, static_cast<double>(now - t0_ns) / 1e9, u->cpu_percent,
+                      u->rss_bytes);
+    }
+    usage.forget_others(alive);
+  };
   int rc = 0;
   for (const auto& e : core.poll(0))  // starts everything, in the orders' sequence
     if (failed(e)) rc = 1;
@@ -304,6 +339,10 @@ int main(int argc, char** argv) {
       for (const auto& e : core.poll(100))
         if (failed(e)) rc = 1;
       if (rc != 0) break;
+      if (mono_ns() >= next_usage_ns) {
+        sample_usage();
+        next_usage_ns += static_cast<int64_t>(usage_period_s * 1e9);
+      }
       if (wait_for_shutdown_signal(0.001) != 0) {
         say("stopping on signal");
         break;
@@ -312,6 +351,19 @@ int main(int argc, char** argv) {
         say("duration reached; stopping");
         break;
       }
+    }
+  }
+  sample_usage();  // the processes as they end the run
+  if (!usage_log.summaries().empty()) {
+    say("memory and CPU over the run (rss after a " + fmt_seconds(usage_warmup_s) + " warm-up):");
+    for (const auto& line : launcher::format_table(usage_log)) say("  " + line);
+  }
+  if (!usage_path.empty()) {
+    std::ofstream out(usage_path);
+    out << launcher::to_json(usage_log).dump(2) << "\n";
+    if (!out) {
+      std::fprintf(stderr, "[launch] --usage: cannot write %s\n", usage_path.c_str());
+      if (rc == 0) rc = 1;
     }
   }
   for (const auto& e : core.stop_all()) {

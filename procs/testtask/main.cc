@@ -5,8 +5,13 @@
 //   ephor-testtask --task periodic:tick:10:500 --task triggered:save:2000
 //     periodic:NAME:PERIOD_MS[:EXEC_US]   released every PERIOD_MS, runs EXEC_US
 //     triggered:NAME[:EXEC_US]            released by task_trigger_t
+//   --leak-kb-per-s N: also allocates and touches N KiB a second and never
+//     frees it (a leak on purpose, for the launcher's memory report tests)
 
+#include <algorithm>
+#include <chrono>
 #include <ctime>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -55,9 +60,13 @@ int main(int argc, char** argv) {
   ephor::add_process_flags(app, args, "testtask");
   std::vector<std::string> specs;
   double duration_s = 0.0;
+  double leak_kb_per_s = 0.0;
   app.add_option("--task", specs, "periodic:NAME:PERIOD_MS[:EXEC_US] or triggered:NAME[:EXEC_US]")
       ->required();
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  app.add_option("--leak-kb-per-s", leak_kb_per_s,
+                 "allocate and keep this many KiB a second (a leak on purpose, for tests)")
+      ->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
 
@@ -85,7 +94,19 @@ int main(int argc, char** argv) {
     }
     runtime.start();
     spdlog::info("running {} task(s) on host {}", specs.size(), args.host);
-    ephor::wait_for_shutdown_signal(duration_s);
+    if (leak_kb_per_s > 0.0) {
+      // Every 0.1 s a block, written so that it is resident, kept until exit.
+      std::vector<std::unique_ptr<char[]>> leaked;
+      const auto block = static_cast<size_t>(leak_kb_per_s * 1024.0 / 10.0);
+      const auto end = std::chrono::steady_clock::now() +
+                       std::chrono::duration<double>(duration_s > 0.0 ? duration_s : 1e9);
+      while (std::chrono::steady_clock::now() < end && ephor::wait_for_shutdown_signal(0.1) == 0) {
+        leaked.emplace_back(new char[block]);
+        std::fill_n(leaked.back().get(), block, '\1');
+      }
+    } else {
+      ephor::wait_for_shutdown_signal(duration_s);
+    }
     runtime.stop();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());

@@ -3,7 +3,12 @@
 
 #include <signal.h>
 
+#include <cmath>
+#include <fstream>
+#include <map>
+
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "common/time/clock.h"
 #include "tests/integration/harness.h"
@@ -101,6 +106,49 @@ TEST(Launcher, ExitsNonZeroNamingAProcessThatCannotStart) {
   ASSERT_TRUE(wait_until([&] { return exit_of(p, "launch").has_value(); }, seconds(20)));
   EXPECT_EQ(exit_of(p, "launch")->code, 1);
   EXPECT_TRUE(p.has_line("launch", "cannot start ghost"));
+}
+
+TEST(Launcher, ReportsEachProcesssMemoryAndCatchesALeak) {
+  const std::string m = write_temp_file("leak.pbtxt", R"pb(
+    name: "leak"
+    process {
+      name: "steady"
+      exec: "ephor-testtask"
+      args: [ "--task", "periodic:tick:10:1000" ]
+    }
+    process {
+      name: "leaky"
+      exec: "ephor-testtask"
+      args: [ "--task", "periodic:tick:10:100", "--leak-kb-per-s", "4096" ]
+    }
+  )pb");
+  const std::string usage_path = write_temp_file("usage.json", "");
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {m, "--duration", "6", "--usage", usage_path, "--usage-period-s", "0.25",
+           "--usage-warmup-s", "1"});
+  ASSERT_TRUE(wait_until([&] { return exit_of(p, "launch").has_value(); }, seconds(40)));
+  EXPECT_EQ(exit_of(p, "launch")->code, 0);
+  EXPECT_TRUE(p.has_line("launch", "memory and CPU over the run"));
+  EXPECT_TRUE(p.has_line("launch", "growth MB/h"));
+
+  std::ifstream in(usage_path);
+  const auto usage = nlohmann::json::parse(in);
+  std::map<std::string, nlohmann::json> by_name;
+  for (const auto& row : usage.at("processes")) by_name[row.at("name")] = row;
+  ASSERT_TRUE(by_name.count("steady") && by_name.count("leaky") && by_name.count("scheduler"))
+      << usage.dump(2);
+  // 4 MiB/s kept: 14400 MB per hour.
+  const auto& leaky = by_name["leaky"];
+  ASSERT_FALSE(leaky.at("rss_growth_mb_per_hour").is_null()) << leaky.dump();
+  EXPECT_NEAR(leaky.at("rss_growth_mb_per_hour").get<double>(), 14400.0, 4000.0) << leaky.dump();
+  EXPECT_GT(leaky.at("rss_max_mb").get<double>(), leaky.at("rss_first_mb").get<double>() + 10.0);
+  const auto& steady = by_name["steady"];
+  ASSERT_FALSE(steady.at("rss_growth_mb_per_hour").is_null()) << steady.dump();
+  EXPECT_LT(std::abs(steady.at("rss_growth_mb_per_hour").get<double>()), 700.0) << steady.dump();
+  // It burns 1 ms of CPU every 10 ms: about 0.5 s over the 5 s sampled.
+  EXPECT_GT(steady.at("cpu_s").get<double>(), 0.2) << steady.dump();
+  EXPECT_LT(steady.at("cpu_s").get<double>(), 2.0) << steady.dump();
 }
 
 TEST(Launcher, BadManifestAndBadOptionsAreRefusedWithReasons) {
