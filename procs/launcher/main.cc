@@ -160,6 +160,12 @@ int main(int argc, char** argv) {
     params[name] = value;
   }
 
+  // Found out now, not at the end of an hour's run.
+  if (!usage_path.empty() && !std::ofstream(usage_path)) {
+    std::fprintf(stderr, "[launch] --usage: cannot write %s\n", usage_path.c_str());
+    return 2;
+  }
+
   std::map<std::string, std::vector<std::string>> more_args;
   for (const auto& a : extra_args) {
     const auto eq = a.find('=');

@@ -158,11 +158,16 @@ TEST(Launcher, BadManifestAndBadOptionsAreRefusedWithReasons) {
   Processes p;
   p.start("bad", bin("ephor-launch"), {bad});
   p.start("opt", bin("ephor-launch"), {good, "--speed", "3"});
-  ASSERT_TRUE(wait_until([&] { return exit_of(p, "bad") && exit_of(p, "opt"); }, seconds(20)));
+  p.start("usage", bin("ephor-launch"), {good, "--usage", "/no/such/dir/usage.json"});
+  ASSERT_TRUE(wait_until(
+      [&] { return exit_of(p, "bad") && exit_of(p, "opt") && exit_of(p, "usage"); }, seconds(20)));
   EXPECT_EQ(exit_of(p, "bad")->code, 2);
   EXPECT_TRUE(p.has_line("bad", "bad.pbtxt:2:"));
   EXPECT_EQ(exit_of(p, "opt")->code, 2);
   EXPECT_TRUE(p.has_line("opt", "unknown option --speed (parameters of"));
+  EXPECT_EQ(exit_of(p, "usage")->code, 2);
+  EXPECT_TRUE(p.has_line("usage", "--usage: cannot write /no/such/dir/usage.json"));
+  EXPECT_FALSE(p.has_line("usage", "started")) << "refused before anything starts";
 }
 
 }  // namespace
