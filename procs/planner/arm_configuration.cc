@@ -56,4 +56,20 @@ bool ArmConfiguration::line_needs_detour(const JointAngles& q, double x_mm, doub
   return line.follow(puma_, current, n, kJumpRad).has_value();
 }
 
+std::optional<double> ArmConfiguration::joint1_turn_rad(const JointAngles& q, double x_mm,
+                                                        double y_mm, double z_mm,
+                                                        double theta_rad) const {
+  arm::Joints current;
+  for (int i = 0; i < 6; ++i) current(i) = q[static_cast<size_t>(i)];
+  const int configuration = of(current);
+  std::optional<double> turn;
+  for (const arm::Joints& s :
+       puma_.inverse(arm::tool_down_pose(cell_, x_mm, y_mm, z_mm, theta_rad))) {
+    if (of(s) != configuration) continue;
+    const double t = s(0) - current(0);
+    if (!turn || std::abs(t) < std::abs(*turn)) turn = t;
+  }
+  return turn;
+}
+
 }  // namespace ephor::planner

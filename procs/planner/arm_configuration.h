@@ -12,6 +12,8 @@
 //
 // Pure kinematics (common/arm), no LCM: about 5 us per question.
 
+#include <optional>
+
 #include "common/arm/arm_workcell.h"
 #include "common/geometry/workcell.h"
 #include "procs/planner/herd_types.h"
@@ -45,6 +47,16 @@ class ArmConfiguration {
   // true; the column keep-out is FieldRules' business.
   bool line_needs_detour(const JointAngles& q, double x_mm, double y_mm, double z_mm,
                          double theta_rad, double step_mm = 40.0) const;
+
+  // How far joint 1 turns, rad, for the tool to get from where q puts it to
+  // the tool-down point (x, y, z), theta, in q's configuration: the nearest
+  // such solution's joint 1 minus q's. Positive: the tool goes round the
+  // column counter-clockwise seen from above. Joint 1 cannot pass its
+  // +-160 deg, so this also says which way round the column the arm has to
+  // go: the other way crosses the wedge. nullopt when the point needs a
+  // configuration change or is out of reach.
+  std::optional<double> joint1_turn_rad(const JointAngles& q, double x_mm, double y_mm, double z_mm,
+                                        double theta_rad) const;
 
  private:
   int of(const arm::Joints& q) const;

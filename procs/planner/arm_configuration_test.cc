@@ -133,6 +133,31 @@ TEST(ArmConfigurationTest, UnreachablePointNeedsNoSwitch) {
                                    pc.workcell.elevation_plane_z_mm, 0.0));
 }
 
+// Joint 1 turns counter-clockwise (seen from above) for a point
+// counter-clockwise of the tool round the column, and the other way for one
+// clockwise of it; a point only the other configuration reaches has no turn.
+TEST(ArmConfigurationTest, Joint1TurnSaysWhichWayRoundTheColumn) {
+  const PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  const JointAngles park = to_angles(arm::park_joints(cell));  // lower right, about -36 deg
+  const double z = cell.elevation_plane_z_mm;
+  auto facing_centre = [&](double x, double y) {
+    return std::atan2(cell.centre_y_mm() - y, cell.centre_x_mm() - x);
+  };
+  const auto right = config.joint1_turn_rad(park, 1150.0, 457.0, z, facing_centre(1150.0, 457.0));
+  ASSERT_TRUE(right.has_value());
+  EXPECT_GT(*right, 0.3);  // -36 -> 0 deg
+  const auto bottom = config.joint1_turn_rad(park, 609.0, 80.0, z, facing_centre(609.0, 80.0));
+  ASSERT_TRUE(bottom.has_value());
+  EXPECT_LT(*bottom, -0.6);  // -36 -> -90 deg
+  for (double y = 100.0; y < cell.field_width_mm; y += 50.0) {
+    if (config.needs_switch(park, 100.0, y, z, facing_centre(100.0, y))) {
+      EXPECT_FALSE(config.joint1_turn_rad(park, 100.0, y, z, facing_centre(100.0, y)).has_value());
+    }
+  }
+}
+
 // A sheep at the first point of a 20 mm grid, scanned from the field's
 // left edge, that lies `needs_switch` from `q`, walks straight out of the
 // nearest long edge at `speed` and has at least `min_to_edge_mm` to go.
@@ -190,6 +215,56 @@ TEST(ArmConfigurationTest, PlannerSavesASheepReachableAsTheArmIsBeforeSwitching)
   const auto first = strict.plan(scene);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->target, 1);
+}
+
+// Sheep A can only be met after a configuration change, and that comes too
+// late (it leaves in a few seconds): a last hope. Sheep B is reachable as
+// the arm is and leaves later. The arm saves B rather than spending 13 s on
+// A (even in the paper's order, without deferring switches); with A alone
+// on the field, it tries A.
+TEST(ArmConfigurationTest, ASwitchThatComesTooLateIsTriedOnlyForASheepAlone) {
+  PlannerConfig pc;
+  pc.switch_defer_slack_s = 1e9;  // no deferring of switches: this rule alone
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  const FieldRules rules(pc);
+  Scene scene;
+  scene.arm.x_mm = pc.park_x_mm;
+  scene.arm.y_mm = pc.park_y_mm;
+  scene.arm.joints_known = true;
+  scene.arm.joints_rad = to_angles(arm::park_joints(cell));
+  // A: the first sheep of the grid walking out of the nearest long edge at
+  // 30 mm/s that judge() finds a last hope.
+  MultiSheepPlanner judge_only(pc);
+  std::optional<Sheep> a;
+  for (double x = 60.0; x < cell.field_length_mm && !a; x += 40.0) {
+    for (double y = 60.0; y < cell.field_width_mm && !a; y += 40.0) {
+      if (!rules.usable_point(x, y)) continue;
+      const Sheep s{1, x, y, 0.0, y < rules.centre_y_mm() ? -30.0 : 30.0, SheepState::kVisible};
+      Scene alone = scene;
+      alone.sheep = {s};
+      Intercept ic;
+      const CandidateVerdict v = judge_only.judge(alone, s, &ic);
+      if (v.verdict == Verdict::kAccepted && v.hopeful) a = s;
+    }
+  }
+  ASSERT_TRUE(a.has_value()) << "no sheep leaves before a switch could reach it";
+  const auto b = find_sheep(2, config, rules, cell, scene.arm.joints_rad, false, 5.0, 160.0);
+  ASSERT_TRUE(b.has_value());
+  ASSERT_GT(rules.time_to_boundary(*b), rules.time_to_boundary(*a));
+
+  scene.sheep = {*a, *b};
+  MultiSheepPlanner planner(pc);
+  const auto goal = planner.plan(scene);
+  ASSERT_TRUE(goal.has_value());
+  EXPECT_EQ(goal->target, 2) << "A at (" << a->x_mm << ", " << a->y_mm << ")";
+
+  Scene with_a = scene;
+  with_a.sheep = {*a};
+  MultiSheepPlanner alone(pc);
+  const auto try_a = alone.plan(with_a);
+  ASSERT_TRUE(try_a.has_value());
+  EXPECT_EQ(try_a->target, 1);
 }
 
 // Closest approach of the segment a-b to the column axis, mm.
@@ -285,6 +360,48 @@ TEST(ArmConfigurationTest, LegsAroundTheColumnNeverCrossTheWedge) {
     }
   }
   EXPECT_GE(legs, 10);
+}
+
+// The opening of the stand-in's seed 2 (one sheep): the arm parked at the
+// lower right, the sheep in the upper left walking out of the left edge.
+// The short way round the column (below it) ends where joint 1 cannot go
+// on (its wedge lies across the left edge), so the leg goes above the column,
+// the way joint 1 turns. The leg below cost the sheep: ephor-arm took the
+// next leg the long way round as a joint-space path.
+TEST(ArmConfigurationTest, LegsAroundTheColumnGoTheWayJoint1Turns) {
+  PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  Scene scene;
+  scene.arm.x_mm = pc.park_x_mm;
+  scene.arm.y_mm = pc.park_y_mm;
+  scene.arm.joints_known = true;
+  scene.arm.joints_rad = to_angles(arm::park_joints(cell));
+  scene.sheep = {Sheep{1, 309.0, 736.0, -28.0, 10.0, SheepState::kVisible}};
+  MultiSheepPlanner planner(pc);
+  const auto ic = planner.intercept_for(scene.arm, scene.sheep[0]);
+  ASSERT_TRUE(ic.has_value());
+  const double z = cell.elevation_plane_z_mm;
+  auto facing_centre = [&](double x, double y) {
+    return std::atan2(cell.centre_y_mm() - y, cell.centre_x_mm() - x);
+  };
+  const auto turn_to_sheep = config.joint1_turn_rad(scene.arm.joints_rad, ic->x_mm, ic->y_mm, z,
+                                                    facing_centre(ic->x_mm, ic->y_mm));
+  ASSERT_TRUE(turn_to_sheep.has_value());
+  EXPECT_GT(*turn_to_sheep, 0.0) << "joint 1 turns counter-clockwise, over the top";
+
+  const auto leg = planner.plan(scene);
+  ASSERT_TRUE(leg.has_value());
+  EXPECT_EQ(leg->target, 1);
+  // Counter-clockwise of the parked tool round the column.
+  const double park_angle =
+      std::atan2(pc.park_y_mm - cell.base_y_mm, pc.park_x_mm - cell.base_x_mm);
+  EXPECT_GT(std::atan2(leg->y_mm - cell.base_y_mm, leg->x_mm - cell.base_x_mm), park_angle + 0.3)
+      << "leg to (" << leg->x_mm << ", " << leg->y_mm << ")";
+  const auto turn_to_leg = config.joint1_turn_rad(scene.arm.joints_rad, leg->x_mm, leg->y_mm, z,
+                                                  facing_centre(leg->x_mm, leg->y_mm));
+  ASSERT_TRUE(turn_to_leg.has_value());
+  EXPECT_GT(*turn_to_leg, 0.0);
 }
 
 // Without joints (the kinematic stand-in) the planner times every move as

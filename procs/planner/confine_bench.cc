@@ -6,7 +6,7 @@
 //
 //   ephor-bench-planner [--minutes 10] [--seeds 3] [--max-sheep 8]
 //                       [--lag-s 0.15] [--hide-mm 150] [--arm point|puma]
-//                       [--sheep-speed 30] [--json FILE]
+//                       [--sheep-speed 30] [--json FILE] [--trace-seed N]
 //   ephor-bench-planner --start GT.jsonl [--minutes 2] [--arm point|puma] ...
 //
 // --arm point: the tool is a point moving straight at --arm-speed (300 mm/s,
@@ -21,6 +21,10 @@
 // planner with this arm could have kept that run's start (the stand-in has
 // no heading wander, collisions or pedestal).
 //
+// --trace-seed N prints, for the runs with seed N, every goal, change of
+// planner phase and escape with the arm's and the sheep's positions: what the
+// arm was doing when a sheep left.
+//
 // Where the arm's time goes: the JSON has, per cell, the simulated time the
 // planner spent in each phase (moving, lowering, turning, raising, parking,
 // parked, holding) and, with --arm puma, the time of all moves and of the
@@ -32,6 +36,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,7 +76,26 @@ struct Options {
   double sheep_speed_mm_s = 30.0;
   double base_yaw_deg = 0.0;      // the PUMA's mounting, Workcell::base_yaw_rad in degrees
   double arm_speed_mm_s = 300.0;  // the point's speed, or the PUMA's tool-speed cap
+  int trace_seed = 0;             // runs with this seed print their goals and escapes (0: none)
 };
+
+// One line of a traced run: a goal sent, a change of phase or an escape,
+// with where the arm and every sheep are (F, mm, mm/s).
+void trace_line(double t_s, const ephor::planner::PlannerStatus& status,
+                const ephor::planner::Scene& scene, const std::optional<ephor::planner::Goal>& goal,
+                bool escape) {
+  std::fprintf(stderr, "t %7.2f s  %-9s arm (%4.0f, %4.0f)%s", t_s, status.phase.c_str(),
+               scene.arm.x_mm, scene.arm.y_mm, scene.arm.lowered ? " down" : "");
+  if (goal) {
+    std::fprintf(stderr, "  goal %s (%.0f, %.0f) for sheep %d",
+                 goal->plane == ephor::planner::Plane::kElevation ? "elevation" : "object",
+                 goal->x_mm, goal->y_mm, goal->target);
+  }
+  for (const auto& s : scene.sheep)
+    std::fprintf(stderr, "  sheep %d (%.0f, %.0f) v (%.0f, %.0f)", s.id, s.x_mm, s.y_mm, s.vx_mm_s,
+                 s.vy_mm_s);
+  std::fprintf(stderr, escape ? "  ESCAPE\n" : "\n");
+}
 
 Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const Options& o,
         const std::vector<ephor::planner::Sheep>* start = nullptr) {
@@ -95,6 +119,7 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
   arm.speed_mm_s = o.arm_speed_mm_s;  // what the planner assumes (ephor-planner's arm speed)
   const double dt = 1.0 / 30.0;
   Run out;
+  std::string last_phase;
   for (int i = 0; i < static_cast<int>(seconds / dt); ++i) {
     const int escaped_before = field.escapes();
     field.step(dt);
@@ -106,7 +131,13 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
     out.job_us.push_back(
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     if (goal) field.send(*goal);
-    out.phase_s[planner->status().phase] += dt;
+    const auto status = planner->status();
+    const bool escaped = field.escapes() > escaped_before;
+    if (o.trace_seed == static_cast<int>(seed) && (goal || escaped || status.phase != last_phase)) {
+      trace_line((i + 1) * dt, status, scene, goal, escaped);
+    }
+    last_phase = status.phase;
+    out.phase_s[status.phase] += dt;
   }
   out.escapes = field.escapes();
   if (puma) {
@@ -164,6 +195,10 @@ int main(int argc, char** argv) {
   app.add_option("--arm-speed", o.arm_speed_mm_s,
                  "the point's speed or the PUMA's tool-speed cap, mm/s (the arm's default: 300)")
       ->check(CLI::Range(10.0, 2000.0));
+  app.add_option("--trace-seed", o.trace_seed,
+                 "print every goal, phase change and escape of the runs with this seed to "
+                 "stderr (with --start: 1)")
+      ->check(CLI::Range(1, 100));
   std::string start_path;
   app.add_option("--start", start_path,
                  "one run per planner from the sheep of this GROUND_TRUTH export (first line)");

@@ -66,8 +66,9 @@ OrderingScore LookaheadPlanner::score(const Scene& scene, const std::vector<int>
     ArmModel arm = arm0;
     arm.x_mm = st.arm_x_mm;
     arm.y_mm = st.arm_y_mm;
-    const auto ic = intercept_for(arm, s);
-    if (!ic || !rules().intercept_in_field(*ic, s)) {
+    bool hopeful = false;
+    const auto ic = intercept_for(arm, s, nullptr, &hopeful);
+    if (!ic || hopeful || !rules().intercept_in_field(*ic, s)) {
       // Cannot be saved this late: the arm does not go. How late it is (the
       // arm reaching the point where the sheep leaves) tells near misses,
       // which a conservative arm model may still save, from hopeless ones.

@@ -29,6 +29,10 @@ struct CandidateVerdict {
   // The intercept is outside the arm's current configuration's region
   // (its time includes ArmModel::configuration_switch_s).
   bool needs_switch = false;
+  // The sheep needs a configuration change that would come too late: the
+  // intercept assumes the straight-line time, which the arm cannot make.
+  // Saved only when no other sheep can be (see choose()).
+  bool hopeful = false;
 };
 
 class MultiSheepPlanner : public SaveCyclePlanner {
@@ -40,9 +44,12 @@ class MultiSheepPlanner : public SaveCyclePlanner {
   const std::vector<CandidateVerdict>& last_verdicts() const { return verdicts_; }
 
   // Step 2's intercept for one sheep (from the elevation plane, with the
-  // lowering delay); may lie outside the field.
+  // lowering delay); may lie outside the field. *hopeful (CandidateVerdict::
+  // hopeful): a configuration change is needed and the intercept after it
+  // is unusable, so this is the straight-line intercept instead.
   std::optional<Intercept> intercept_for(const ArmModel& arm, const Sheep& sheep,
-                                         bool* needs_switch = nullptr) const;
+                                         bool* needs_switch = nullptr,
+                                         bool* hopeful = nullptr) const;
   // Step 2 for one sheep: the intercept and whether it is usable.
   CandidateVerdict judge(const Scene& scene, const Sheep& sheep, Intercept* intercept) const;
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <utility>
+#include <vector>
 
 namespace ephor::planner {
 
@@ -119,10 +120,19 @@ std::optional<std::pair<double, double>> SaveCyclePlanner::column_waypoint(const
   const double bx = config().workcell.base_x_mm;
   const double by = config().workcell.base_y_mm;
   const double a0 = std::atan2(arm.y_mm - by, arm.x_mm - bx);
-  double d = std::remainder(std::atan2(y_mm - by, x_mm - bx) - a0, 2.0 * std::numbers::pi);
-  // The short way round first, then the long way (the short one may cross
-  // the wedge the current configuration cannot reach).
-  for (const double dir : {d, d > 0.0 ? d - 2.0 * std::numbers::pi : d + 2.0 * std::numbers::pi}) {
+  const double d = std::remainder(std::atan2(y_mm - by, x_mm - bx) - a0, 2.0 * std::numbers::pi);
+  const double other_way = d > 0.0 ? d - 2.0 * std::numbers::pi : d + 2.0 * std::numbers::pi;
+  // Round the column the way joint 1 turns to the goal: the other way
+  // crosses the wedge the configuration cannot reach, so a leg that way
+  // would leave a next leg (or ephor-arm) the whole way back round. Without
+  // a turn (the goal out of reach as the arm is): the short way, then the
+  // long way.
+  std::vector<double> directions{d, other_way};
+  if (const auto turn = arm_configuration_.joint1_turn_rad(arm.joints_rad, x_mm, y_mm, z,
+                                                           std::atan2(cy - y_mm, cx - x_mm))) {
+    directions = {(*turn > 0.0) == (d > 0.0) ? d : other_way};
+  }
+  for (const double dir : directions) {
     for (double step_deg = 80.0; step_deg >= 20.0; step_deg -= 10.0) {
       const double step =
           std::copysign(std::min(std::abs(dir), step_deg * std::numbers::pi / 180.0), dir);
