@@ -267,6 +267,62 @@ TEST(ArmConfigurationTest, ASwitchThatComesTooLateIsTriedOnlyForASheepAlone) {
   EXPECT_EQ(try_a->target, 1);
 }
 
+// After a save on the far side of joint 1's wedge, the next leg towards
+// the park corner would be a 12-15 s joint-space path. With a sheep that
+// leaves within that time (here one crossing the centre zone, which needs
+// no saving yet) the arm waits where it is; with none, it goes.
+TEST(ArmConfigurationTest, NoLongParkingLegWhileASheepComesDueSoon) {
+  const PlannerConfig pc;
+  const geometry::Workcell& cell = pc.workcell;
+  const ArmConfiguration config(cell);
+  const FieldRules rules(pc);
+  const arm::Puma560 puma = arm::make_puma(cell);
+  const double z = cell.elevation_plane_z_mm;
+  std::optional<Scene> found;
+  for (double y = 100.0; y < cell.field_width_mm - 50.0 && !found; y += 50.0) {
+    for (double x = 40.0; x < 400.0 && !found; x += 60.0) {
+      if (!rules.usable_point(x, y)) continue;
+      const double theta = std::atan2(cell.centre_y_mm() - y, cell.centre_x_mm() - x);
+      for (const arm::Joints& q : puma.inverse(arm::tool_down_pose(cell, x, y, z, theta))) {
+        Scene scene;
+        scene.arm.x_mm = x;
+        scene.arm.y_mm = y;
+        scene.arm.joints_known = true;
+        scene.arm.joints_rad = to_angles(q);
+        MultiSheepPlanner planner(pc);
+        const auto leg = planner.plan(scene);  // nobody on the field: park
+        if (!leg) continue;
+        const double leg_theta =
+            std::atan2(cell.centre_y_mm() - pc.park_y_mm, cell.centre_x_mm() - pc.park_x_mm);
+        if (config.needs_switch(scene.arm.joints_rad, leg->x_mm, leg->y_mm, z, leg_theta) ||
+            config.line_needs_detour(scene.arm.joints_rad, leg->x_mm, leg->y_mm, z, leg_theta)) {
+          found = scene;
+          break;
+        }
+      }
+    }
+  }
+  ASSERT_TRUE(found.has_value()) << "no tool pose on the left whose way to the corner is long";
+
+  Scene due = *found;
+  // In the centre zone (no saving needed), leaving over the bottom edge in
+  // about 13 s.
+  due.sheep = {
+      Sheep{1, cell.centre_x_mm(), cell.centre_y_mm() - 60.0, 0.0, -30.0, SheepState::kVisible}};
+  ASSERT_LT(rules.time_to_boundary(due.sheep[0]), 20.0);
+  MultiSheepPlanner waits(pc);
+  EXPECT_FALSE(waits.plan(due).has_value());
+  EXPECT_EQ(waits.phase(), SaveCyclePlanner::Phase::kParked);
+
+  Scene calm = *found;
+  calm.sheep = {
+      Sheep{1, cell.centre_x_mm(), cell.centre_y_mm() - 60.0, 0.0, -3.5, SheepState::kVisible}};
+  MultiSheepPlanner goes(pc);
+  const auto leg = goes.plan(calm);
+  ASSERT_TRUE(leg.has_value());
+  EXPECT_EQ(goes.phase(), SaveCyclePlanner::Phase::kParking);
+}
+
 // Closest approach of the segment a-b to the column axis, mm.
 double clearance_from_column(const geometry::Workcell& cell, double ax, double ay, double bx,
                              double by) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -328,9 +329,23 @@ std::optional<Goal> SaveCyclePlanner::park(const Scene& scene) {
     x = bx + r_min * ux;
     y = by + r_min * uy;
   }
-  return send(scene, Plane::kElevation, x, y,
-              std::atan2(rules_.centre_y_mm() - py, rules_.centre_x_mm() - px), -1,
-              Phase::kParking);
+  const double theta = std::atan2(rules_.centre_y_mm() - py, rules_.centre_x_mm() - px);
+  // A leg that needs a configuration change, or whose line crosses joint
+  // 1's wedge, is a joint-space path of 12-15 s during which no sheep can be
+  // saved. Unless every sheep stays on the field well beyond that, the arm
+  // waits where it is instead (the stand-in's seed 2 lost a sheep to a 15 s
+  // leg towards the corner; a lone sheep, just turned, has the time).
+  double soonest_exit_s = std::numeric_limits<double>::infinity();
+  for (const Sheep& s : scene.sheep)
+    soonest_exit_s = std::min(soonest_exit_s, rules_.time_to_boundary(s));
+  const double z = config().workcell.elevation_plane_z_mm;
+  if (scene.arm.joints_known && soonest_exit_s < scene.arm.configuration_switch_s + 10.0 &&
+      (arm_configuration_.needs_switch(scene.arm.joints_rad, x, y, z, theta) ||
+       arm_configuration_.line_needs_detour(scene.arm.joints_rad, x, y, z, theta))) {
+    set_phase(Phase::kParked);
+    return std::nullopt;
+  }
+  return send(scene, Plane::kElevation, x, y, theta, -1, Phase::kParking);
 }
 
 std::optional<Intercept> SaveCyclePlanner::replan_at_intercept(const Scene& scene,
