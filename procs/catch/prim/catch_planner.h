@@ -1,0 +1,118 @@
+#pragma once
+// CatchPlanner: NASREM's manipulator Primitive level (Prim) for ball
+// catching (paper 000; Wavering, NIST TN 1256): from the world model's
+// newest prediction it decides where the cup should wait. The arm process
+// plans a trajectory for every goal it receives, so the planner sends a new
+// goal only when it matters, never more often than a minimum interval.
+//
+//   no ball yet             -> the ready point: the bottom centre of the
+//                              board dropped vertically to the catch plane
+//   a prediction            -> the predicted catch point (in the catch plane)
+//   the prediction moves    -> re-send when it moved by more than
+//                              max(resend_min_mm, resend_sigma_fraction *
+//                              sigma), or by more than refresh_min_mm once
+//                              refresh_period_us passed since the last goal
+//   the ball has gone       -> hold hold_after_catch_us after the predicted
+//   (catch time passed)        catch time, then return to the ready point
+//
+// Every goal is clamped to the reachable box in front of the board's bottom
+// edge (configurable); a clamped goal says so. The cup is carried with the
+// tool pointing down, so a goal is a point (its opening centre, W, mm).
+//
+// Times: utime (us) on the clock of the predictions. Not thread-safe; one
+// owner. Expected outcomes (no prediction, out of reach) are values.
+
+#include <cstdint>
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "procs/catch/board/board_model.h"
+
+namespace ephor::catching {
+
+// The world model's newest prediction, as the planner needs it.
+struct CatchPrediction {
+  int ball_id = 0;          // changes when a new ball is acquired
+  int64_t catch_utime = 0;  // when the ball crosses the catch plane
+  Eigen::Vector3d catch_point_w_mm = Eigen::Vector3d::Zero();  // in the catch plane, W
+  double sigma_mm = 0.0;  // 1-sigma of the catch point (worst direction)
+};
+
+struct CatchPlannerParams {
+  // The reachable box (W, mm), corners inclusive.
+  Eigen::Vector3d reach_min_w_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d reach_max_w_mm = Eigen::Vector3d::Zero();
+  double resend_min_mm = 5.0;
+  double resend_sigma_fraction = 0.3;
+  double refresh_min_mm = 2.0;          // smaller changes are never re-sent
+  int64_t refresh_period_us = 100'000;  // a smaller change is re-sent after this long
+  int64_t min_interval_us = 30'000;     // between two goals, whatever the reason
+  int64_t hold_after_catch_us = 500'000;
+
+  // Defaults for a board: the box spans the board's width plus 100 mm on
+  // each side (y of W), from 50 mm behind to 350 mm in front of the bottom
+  // edge (x of W: the ball flies towards -x), and the catch plane +/- 5 mm
+  // in z.
+  static CatchPlannerParams for_board(const BoardSpec& board, const BoardPlacement& placement);
+};
+
+enum class GoalReason {
+  kReady,        // the first goal: wait at the ready point
+  kCatch,        // the first goal for a ball's prediction
+  kRefined,      // the prediction moved by more than the threshold
+  kRefreshed,    // a smaller change, sent after refresh_period_us
+  kReturnReady,  // the ball has gone: back to the ready point
+  kUnchanged,    // no new goal: the current one still holds
+  kTooSoon,      // a new goal is due but min_interval_us has not passed
+  kHolding,      // no new goal: the ball has gone, holding before returning
+};
+const char* to_string(GoalReason reason);
+
+struct CatchGoal {
+  bool send = false;  // a new goal to send this cycle
+  int goal_id = 0;    // of the current goal (the new one if send); 0 = none yet
+  Eigen::Vector3d point_w_mm = Eigen::Vector3d::Zero();  // the current goal, W
+  GoalReason reason = GoalReason::kUnchanged;
+  bool clamped = false;                                   // the wanted point was out of reach
+  double clamped_by_mm = 0.0;                             // how far the clamp moved it
+  Eigen::Vector3d wanted_w_mm = Eigen::Vector3d::Zero();  // before clamping
+  double moved_mm = 0.0;         // wanted (clamped) point vs the current goal
+  double threshold_mm = 0.0;     // the re-send threshold that applied
+  double cup_distance_mm = 0.0;  // from the cup to the goal
+  double time_to_catch_s = 0.0;  // 0 without a prediction
+};
+
+class CatchPlanner {
+ public:
+  // Throws std::invalid_argument for an empty box, a ready point outside it
+  // or negative thresholds and intervals.
+  CatchPlanner(const BoardSpec& board, const BoardPlacement& placement,
+               const CatchPlannerParams& params);
+
+  // One cycle: `prediction` is the newest (nullopt when there is none),
+  // `cup_w_mm` the tool tip now.
+  CatchGoal step(int64_t now_utime, const std::optional<CatchPrediction>& prediction,
+                 const Eigen::Vector3d& cup_w_mm);
+
+  const Eigen::Vector3d& ready_point_w_mm() const { return ready_w_mm_; }
+  const CatchPlannerParams& params() const { return params_; }
+  // The point clamped to the reachable box.
+  Eigen::Vector3d clamp(const Eigen::Vector3d& p_w_mm) const;
+
+ private:
+  CatchGoal send(int64_t now_utime, const Eigen::Vector3d& wanted, GoalReason reason,
+                 CatchGoal goal);
+
+  CatchPlannerParams params_;
+  Eigen::Vector3d ready_w_mm_;
+  bool has_goal_ = false;
+  int goal_id_ = 0;
+  Eigen::Vector3d goal_w_mm_ = Eigen::Vector3d::Zero();
+  int64_t last_send_utime_ = 0;
+  int goal_ball_id_ = -1;         // the ball the current goal aims at; -1 = the ready point
+  int64_t goal_catch_utime_ = 0;  // its newest predicted catch time
+  int finished_ball_id_ = -1;     // the ball we returned from: its predictions are ignored
+};
+
+}  // namespace ephor::catching

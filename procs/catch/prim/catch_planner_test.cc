@@ -1,0 +1,145 @@
+#include "procs/catch/prim/catch_planner.h"
+
+#include <gtest/gtest.h>
+
+namespace ephor::catching {
+namespace {
+
+constexpr int64_t kMs = 1000;  // us
+
+class CatchPlannerTest : public ::testing::Test {
+ protected:
+  CatchPlannerTest() : params_(CatchPlannerParams::for_board(board_, placement_)) {}
+  CatchPlanner make() { return CatchPlanner(board_, placement_, params_); }
+  // A ball due at 700 ms, 100 mm in front of the edge and 40 mm to the side.
+  CatchPrediction prediction(double dy_mm = 0.0, double sigma_mm = 3.0) const {
+    CatchPrediction p;
+    p.ball_id = 1;
+    p.catch_utime = 700 * kMs;
+    p.catch_point_w_mm = placement_.bottom_centre_w_mm +
+                         Eigen::Vector3d(-100.0, 40.0 + dy_mm, -kCatchPlaneBelowEdgeMm);
+    p.sigma_mm = sigma_mm;
+    return p;
+  }
+
+  BoardSpec board_;
+  BoardPlacement placement_;
+  CatchPlannerParams params_;
+  Eigen::Vector3d cup_{400.0, 0.0, 300.0};
+};
+
+TEST_F(CatchPlannerTest, WaitsAtTheReadyPointBeforeABallIsSeen) {
+  CatchPlanner planner = make();
+  const Eigen::Vector3d ready =
+      placement_.bottom_centre_w_mm - Eigen::Vector3d(0.0, 0.0, kCatchPlaneBelowEdgeMm);
+  EXPECT_EQ(planner.ready_point_w_mm(), ready);
+  const CatchGoal first = planner.step(0, std::nullopt, cup_);
+  EXPECT_TRUE(first.send);
+  EXPECT_EQ(first.reason, GoalReason::kReady);
+  EXPECT_EQ(first.goal_id, 1);
+  EXPECT_EQ(first.point_w_mm, ready);
+  EXPECT_FALSE(first.clamped);
+  EXPECT_NEAR(first.cup_distance_mm, (cup_ - ready).norm(), 1e-9);
+  const CatchGoal again = planner.step(100 * kMs, std::nullopt, cup_);
+  EXPECT_FALSE(again.send);
+  EXPECT_EQ(again.reason, GoalReason::kUnchanged);
+  EXPECT_EQ(again.goal_id, 1);
+}
+
+TEST_F(CatchPlannerTest, GoesToThePredictionAndResendsOnlyForChangesThatMatter) {
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  const CatchGoal catch_goal = planner.step(100 * kMs, prediction(), cup_);
+  EXPECT_TRUE(catch_goal.send);
+  EXPECT_EQ(catch_goal.reason, GoalReason::kCatch);
+  EXPECT_EQ(catch_goal.goal_id, 2);
+  EXPECT_EQ(catch_goal.point_w_mm, prediction().catch_point_w_mm);
+  EXPECT_NEAR(catch_goal.time_to_catch_s, 0.6, 1e-9);
+
+  // 1 mm: not re-sent, not even after the refresh period.
+  const CatchGoal small = planner.step(150 * kMs, prediction(1.0), cup_);
+  EXPECT_FALSE(small.send);
+  EXPECT_EQ(small.reason, GoalReason::kUnchanged);
+  EXPECT_NEAR(small.moved_mm, 1.0, 1e-9);
+  EXPECT_DOUBLE_EQ(small.threshold_mm, 5.0);
+  EXPECT_FALSE(planner.step(400 * kMs, prediction(1.0), cup_).send);
+
+  // 30 mm: re-sent at once.
+  const CatchGoal big = planner.step(420 * kMs, prediction(30.0), cup_);
+  EXPECT_TRUE(big.send);
+  EXPECT_EQ(big.reason, GoalReason::kRefined);
+  EXPECT_EQ(big.goal_id, 3);
+  EXPECT_NEAR(big.point_w_mm.y(), prediction(30.0).catch_point_w_mm.y(), 1e-9);
+
+  // 3 mm: below the threshold, sent as a refresh once the period passed.
+  EXPECT_FALSE(planner.step(450 * kMs, prediction(33.0), cup_).send);
+  const CatchGoal refresh = planner.step(530 * kMs, prediction(33.0), cup_);
+  EXPECT_TRUE(refresh.send);
+  EXPECT_EQ(refresh.reason, GoalReason::kRefreshed);
+}
+
+TEST_F(CatchPlannerTest, ThresholdGrowsWithTheSigmaOfThePrediction) {
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  planner.step(100 * kMs, prediction(0.0, 100.0), cup_);
+  // sigma 100 mm: threshold 30 mm; a 20 mm change of an uncertain
+  // prediction waits for the refresh.
+  const CatchGoal g = planner.step(150 * kMs, prediction(20.0, 100.0), cup_);
+  EXPECT_DOUBLE_EQ(g.threshold_mm, 30.0);
+  EXPECT_FALSE(g.send);
+}
+
+TEST_F(CatchPlannerTest, NeverSendsMoreOftenThanTheMinimumInterval) {
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  ASSERT_TRUE(planner.step(100 * kMs, prediction(), cup_).send);
+  const CatchGoal soon = planner.step(110 * kMs, prediction(30.0), cup_);
+  EXPECT_FALSE(soon.send);
+  EXPECT_EQ(soon.reason, GoalReason::kTooSoon);
+  EXPECT_EQ(soon.goal_id, 2);
+  const CatchGoal later = planner.step(130 * kMs, prediction(30.0), cup_);
+  EXPECT_TRUE(later.send);
+  EXPECT_EQ(later.reason, GoalReason::kRefined);
+}
+
+TEST_F(CatchPlannerTest, ClampsAnOutOfReachPredictionAndSaysSo) {
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  // 600 mm to the side of the board's centre line: beyond the box's 400 mm.
+  const CatchGoal g = planner.step(100 * kMs, prediction(560.0), cup_);
+  EXPECT_TRUE(g.send);
+  EXPECT_TRUE(g.clamped);
+  EXPECT_NEAR(g.clamped_by_mm, 200.0, 1e-9);
+  EXPECT_DOUBLE_EQ(g.point_w_mm.y(), params_.reach_max_w_mm.y());
+  EXPECT_EQ(g.wanted_w_mm, prediction(560.0).catch_point_w_mm);
+}
+
+TEST_F(CatchPlannerTest, ReturnsToReadyAfterTheBallHasGone) {
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  planner.step(100 * kMs, prediction(), cup_);
+  // The world model keeps repeating the exited ball's prediction.
+  const CatchGoal hold = planner.step(800 * kMs, prediction(), cup_);
+  EXPECT_FALSE(hold.send);
+  EXPECT_EQ(hold.reason, GoalReason::kHolding);
+  const CatchGoal back = planner.step(1250 * kMs, prediction(), cup_);
+  EXPECT_TRUE(back.send);
+  EXPECT_EQ(back.reason, GoalReason::kReturnReady);
+  EXPECT_EQ(back.point_w_mm, planner.ready_point_w_mm());
+  EXPECT_FALSE(planner.step(1300 * kMs, prediction(), cup_).send);
+  // The next ball is aimed at again.
+  CatchPrediction next = prediction(-80.0);
+  next.ball_id = 2;
+  next.catch_utime = 2000 * kMs;
+  const CatchGoal g = planner.step(1400 * kMs, next, cup_);
+  EXPECT_TRUE(g.send);
+  EXPECT_EQ(g.reason, GoalReason::kCatch);
+}
+
+TEST_F(CatchPlannerTest, RejectsABoxWithoutTheReadyPoint) {
+  params_.reach_max_w_mm.x() = placement_.bottom_centre_w_mm.x() - 10.0;
+  EXPECT_THROW(make(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ephor::catching

@@ -1,0 +1,144 @@
+// ephor-catch-prim: NASREM's manipulator Primitive level for catching
+// (paper 000): from the world model's newest prediction of where and when
+// the ball crosses the catch plane, streams cup goals (arm_goal_t KIND_POSE,
+// tool down) that bring the cup there before the ball, refined as the
+// prediction sharpens (CatchPlanner); the shared comm and arm processes
+// carry them out.
+//
+//   subscribes  CATCH_WORLD (catch_world_t), ARM_STATE (arm_state_t: where the
+//               cup is), CATCH_SURVEY (catch_survey_t: the board in W)
+//   publishes   ARM_GOAL (arm_goal_t, KIND_POSE)
+//   tasks       plan (triggered by CATCH_WORLD: always the newest one)
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/config/repo_paths.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/lcm/mailbox.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/catch_survey_t.hpp"
+#include "ephor/catch_world_t.hpp"
+#include "procs/catch/board/board_file.h"
+#include "procs/catch/board/board_survey.h"
+#include "procs/catch/board/catch_channels.h"
+#include "procs/catch/prim/catch_planner.h"
+
+int main(int argc, char** argv) {
+  using namespace ephor;
+  using namespace ephor::catching;
+  block_shutdown_signals();
+  CLI::App app{"ephor-catch-prim: streams cup goals to the predicted catch point"};
+  ProcessArgs args;
+  add_process_flags(app, args, "prim");
+  std::string board_path = "deploy/catch/board.pbtxt";
+  double duration_s = 0.0;
+  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const BoardSpec board = load_board_file(resolve_repo_path(board_path));
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    std::mutex mutex;
+    std::optional<CatchPlanner> planner;
+    std::optional<Eigen::Vector3d> cup;
+    Mailbox<catch_world_t> worlds;
+    std::atomic<int64_t> goals{0}, bad_messages{0};
+    const int64_t run_id = wall_us();  // goal ids unique across restarts
+
+    bus.subscribe<catch_survey_t>(channels::kSurvey, [&](const catch_survey_t& m) {
+      std::array<Eigen::Vector2d, 3> b;
+      std::array<Eigen::Vector3d, 3> w;
+      for (int i = 0; i < 3; ++i) {
+        b[i] = Eigen::Vector2d(m.board_mm[i][0], m.board_mm[i][1]);
+        w[i] = Eigen::Vector3d(m.world_mm[i][0], m.world_mm[i][1], m.world_mm[i][2]);
+      }
+      std::string why;
+      const auto placement = placement_from_survey(board, b, w, why);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!placement) {
+        ++bad_messages;
+        spdlog::warn("CATCH_SURVEY ignored: {}", why);
+        return;
+      }
+      if (!planner) {
+        planner.emplace(board, *placement, CatchPlannerParams::for_board(board, *placement));
+        const auto& r = planner->ready_point_w_mm();
+        spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
+                     r.z());
+      }
+    });
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      const Eigen::Vector3d p(m.x_mm, m.y_mm, m.z_mm);
+      if (!p.allFinite()) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      cup = p;
+    });
+    bus.subscribe<catch_world_t>(channels::kWorld, [&](const catch_world_t& m) {
+      worlds.put(m);
+      runtime.trigger("plan");
+    });
+
+    runtime.add_triggered("plan", std::chrono::milliseconds(8), [&] {
+      const auto world = worlds.take();
+      if (!world) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!planner || !cup) return;
+      std::optional<CatchPrediction> prediction;
+      if (world->has_prediction && world->status != catch_world_t::STATUS_NO_BALL) {
+        CatchPrediction p;
+        p.ball_id = world->ball_id;
+        p.catch_utime = world->catch_utime;
+        p.catch_point_w_mm = Eigen::Vector3d(world->catch_point_w_mm[0], world->catch_point_w_mm[1],
+                                             world->catch_point_w_mm[2]);
+        p.sigma_mm = world->exit_sigma_mm;
+        if (p.catch_point_w_mm.allFinite() && std::isfinite(p.sigma_mm)) {
+          prediction = p;
+        } else {
+          ++bad_messages;
+        }
+      }
+      const CatchGoal g = planner->step(wall_us(), prediction, *cup);
+      if (!g.send) return;
+      arm_goal_t msg{};
+      msg.utime = wall_us();
+      msg.goal_id = run_id + g.goal_id;
+      msg.kind = arm_goal_t::KIND_POSE;
+      for (int k = 0; k < 3; ++k) msg.position_mm[k] = g.point_w_mm[k];
+      msg.theta_rad = 0.0f;
+      msg.max_speed_mm_s = 0.0f;  // the arm's own cap
+      msg.source_frame_utime = world->utime;
+      msg.target_object = world->ball_id;
+      bus.publish(ephor::channels::kArmGoal, msg);
+      ++goals;
+      spdlog::debug("goal {} ({}): ({:.0f}, {:.0f}, {:.0f}) mm{}", g.goal_id, to_string(g.reason),
+                    g.point_w_mm.x(), g.point_w_mm.y(), g.point_w_mm.z(),
+                    g.clamped ? " (clamped to the reachable strip)" : "");
+    });
+
+    runtime.start();
+    spdlog::info("ready: waiting for the board survey (CATCH_SURVEY) and the arm (ARM_STATE)");
+    wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    spdlog::info("summary: {} goals sent, {} bad messages", goals.load(), bad_messages.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,114 @@
+#include "procs/catch/worldmodel/ball_kalman_filter.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+
+namespace ephor::catching {
+
+namespace {
+bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
+}  // namespace
+
+BallKalmanFilter::BallKalmanFilter(const BallKalmanParams& params) : params_(params) {
+  if (!std::isfinite(params.acceleration_mm_s2) ||
+      !finite_non_negative(params.accel_sigma_x_mm_s2) ||
+      !finite_non_negative(params.accel_sigma_y_mm_s2) ||
+      !(params.initial_velocity_sigma_mm_s > 0.0) ||
+      !std::isfinite(params.initial_velocity_sigma_mm_s) ||
+      !std::isfinite(params.bounce_nis_threshold) ||
+      !finite_non_negative(params.bounce_velocity_sigma_mm_s)) {
+    throw std::invalid_argument(
+        "BallKalmanFilter: parameters must be finite, sigmas >= 0 and the initial velocity "
+        "sigma > 0");
+  }
+}
+
+void BallKalmanFilter::reset() {
+  initialised_ = false;
+  x_.setZero();
+  p_.setZero();
+  since_update_s_ = 0.0;
+}
+
+void BallKalmanFilter::initialise(const Eigen::Vector2d& z, const Eigen::Matrix2d& r,
+                                  const Eigen::Vector2d& velocity) {
+  x_.head<2>() = z;
+  x_.tail<2>() = velocity;
+  p_.setZero();
+  p_.topLeftCorner<2, 2>() = r;
+  const double sv = params_.initial_velocity_sigma_mm_s;
+  p_.bottomRightCorner<2, 2>() = Eigen::Matrix2d::Identity() * (sv * sv);
+  initialised_ = true;
+  since_update_s_ = 0.0;
+}
+
+void BallKalmanFilter::predict(double dt_s) {
+  if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  const double t = dt_s, a = params_.acceleration_mm_s2;
+  x_(0) += x_(2) * t;
+  x_(1) += x_(3) * t + 0.5 * a * t * t;
+  x_(3) += a * t;
+  // P = F P F' written out by blocks (F = [I, T I; 0, I]).
+  const Eigen::Matrix2d ppp = p_.topLeftCorner<2, 2>();
+  const Eigen::Matrix2d ppv = p_.topRightCorner<2, 2>();
+  const Eigen::Matrix2d pvv = p_.bottomRightCorner<2, 2>();
+  const Eigen::Matrix2d new_ppv = ppv + t * pvv;
+  p_.topLeftCorner<2, 2>() = ppp + t * (ppv + ppv.transpose()) + t * t * pvv;
+  p_.topRightCorner<2, 2>() = new_ppv;
+  p_.bottomLeftCorner<2, 2>() = new_ppv.transpose();
+  const double t2 = t * t;
+  for (int i = 0; i < 2; ++i) {
+    const double sigma = i == 0 ? params_.accel_sigma_x_mm_s2 : params_.accel_sigma_y_mm_s2;
+    const double q = sigma * sigma;
+    p_(i, i) += q * t2 * t2 / 4.0;
+    p_(i, i + 2) += q * t2 * t / 2.0;
+    p_(i + 2, i) += q * t2 * t / 2.0;
+    p_(i + 2, i + 2) += q * t2;
+  }
+  since_update_s_ += t;
+}
+
+KalmanUpdateResult BallKalmanFilter::update(const Eigen::Vector2d& z, const Eigen::Matrix2d& r) {
+  KalmanUpdateResult result;
+  if (!initialised_ || !z.allFinite() || !r.allFinite()) return result;
+  result.innovation = z - x_.head<2>();
+  Eigen::Matrix2d s = p_.topLeftCorner<2, 2>() + r;
+  result.nis = result.innovation.dot(s.ldlt().solve(result.innovation));
+  if (params_.bounce_nis_threshold > 0.0 && result.nis > params_.bounce_nis_threshold) {
+    // A velocity impulse dv at an unknown time s, uniform in the interval T
+    // since the last update: it moved the ball by dv (T - s), so
+    // P += Qb [T^2/3, T/2; T/2, 1] per axis. The position-velocity
+    // correlation of sqrt(3)/2 (not 1) keeps a quarter of Qb in the velocity
+    // after this update: one position cannot tell a large late bounce from
+    // a small early one, the next frames do.
+    const double t = since_update_s_;
+    const double qb = params_.bounce_velocity_sigma_mm_s * params_.bounce_velocity_sigma_mm_s;
+    for (int i = 0; i < 2; ++i) {
+      p_(i, i) += qb * t * t / 3.0;
+      p_(i, i + 2) += qb * t / 2.0;
+      p_(i + 2, i) += qb * t / 2.0;
+      p_(i + 2, i + 2) += qb;
+    }
+    s = p_.topLeftCorner<2, 2>() + r;
+    result.bounce = true;
+    ++bounces_;
+  }
+  // K = P H' S^-1 with H = [I 0].
+  const Eigen::Matrix<double, 4, 2> pht = p_.leftCols<2>();
+  const Eigen::Matrix<double, 4, 2> k = s.ldlt().solve(pht.transpose()).transpose();
+  x_ += k * result.innovation;
+  // Joseph form keeps P symmetric and positive through the bounce's large
+  // gains: P = (I - K H) P (I - K H)' + K R K'.
+  Covariance ikh = Covariance::Identity();
+  ikh.leftCols<2>() -= k;
+  p_ = ikh * p_ * ikh.transpose() + k * r * k.transpose();
+  p_ = 0.5 * (p_ + p_.transpose());
+  since_update_s_ = 0.0;
+  ++updates_;
+  result.applied = true;
+  return result;
+}
+
+}  // namespace ephor::catching

@@ -1,0 +1,125 @@
+#include "procs/catch/worldmodel/ball_kalman_filter.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+
+#include "procs/catch/worldmodel/test_scene.h"
+
+namespace ephor::catching {
+namespace {
+
+constexpr double kFrame = 1.0 / 60.0;
+constexpr double kNoise = 1.0;  // mm per axis
+
+BallKalmanParams params_for(const BoardPlacement& placement) {
+  BallKalmanParams p;
+  p.acceleration_mm_s2 = testing::rolling_acceleration(placement);
+  return p;
+}
+
+struct FilterRun {
+  double worst_velocity_error_after_03 = 0.0;  // mm/s, from t = 0.3 s on
+  double worst_position_error_after_03 = 0.0;  // mm
+  double recovered_after_s =
+      -1.0;  // after the bounce: first time the velocity error stays < 50 mm/s
+  int bounces = 0;
+};
+
+FilterRun run_filter(const BallKalmanParams& params,
+                     const std::vector<testing::RollingSample>& track, double bounce_t = -1.0) {
+  BallKalmanFilter kf(params);
+  const Eigen::Matrix2d r = Eigen::Matrix2d::Identity() * kNoise * kNoise;
+  FilterRun run;
+  double last_bad = bounce_t;
+  for (std::size_t k = 0; k < track.size(); ++k) {
+    const auto& s = track[k];
+    if (k == 0) {
+      kf.initialise(s.measured_mm, r);
+      continue;
+    }
+    kf.predict(s.t_s - track[k - 1].t_s);
+    kf.update(s.measured_mm, r);
+    const double ev = (kf.velocity() - s.velocity_mm_s).norm();
+    const double ep = (kf.position() - s.position_mm).norm();
+    if (s.t_s >= 0.3 - 1e-9 && (bounce_t < 0.0 || s.t_s < bounce_t)) {
+      run.worst_velocity_error_after_03 = std::max(run.worst_velocity_error_after_03, ev);
+      run.worst_position_error_after_03 = std::max(run.worst_position_error_after_03, ep);
+    }
+    if (bounce_t >= 0.0 && s.t_s >= bounce_t && ev >= 50.0) last_bad = s.t_s;
+  }
+  if (bounce_t >= 0.0) run.recovered_after_s = last_bad - bounce_t + kFrame;
+  run.bounces = kf.bounces();
+  return run;
+}
+
+TEST(BallKalmanFilterTest, ConvergesOnARollingBall) {
+  const BoardSpec board;
+  const BoardPlacement placement;
+  const BallKalmanParams params = params_for(placement);
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    const auto track = testing::simulate_roll(board, params.acceleration_mm_s2, {200.0, 30.0},
+                                              {120.0, 50.0}, kFrame, kNoise, seed);
+    const FilterRun run = run_filter(params, track);
+    std::printf(
+        "seed %u: worst velocity error after 0.3 s %.1f mm/s, position %.2f mm, bounces %d\n", seed,
+        run.worst_velocity_error_after_03, run.worst_position_error_after_03, run.bounces);
+    EXPECT_LT(run.worst_velocity_error_after_03, 20.0) << "seed " << seed;
+    EXPECT_LT(run.worst_position_error_after_03, 2.0) << "seed " << seed;
+    EXPECT_EQ(run.bounces, 0) << "seed " << seed;  // no false bounce on a clean track
+  }
+}
+
+TEST(BallKalmanFilterTest, RecoversFromAPegBounceWithinATenthOfASecond) {
+  const BoardSpec board;
+  const BoardPlacement placement;
+  const BallKalmanParams params = params_for(placement);
+  BallKalmanParams no_inflation = params;
+  no_inflation.bounce_nis_threshold = 0.0;
+  const double bounce_t = 0.4 + 0.5 * kFrame;  // between two frames
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    // At 0.4 s the ball (~1.2 m/s down) hits a peg: thrown sideways and
+    // slowed to a fifth down the slope.
+    const auto track =
+        testing::simulate_roll(board, params.acceleration_mm_s2, {200.0, 30.0}, {120.0, 50.0},
+                               kFrame, kNoise, seed, {{bounce_t, Eigen::Vector2d(-700.0, 250.0)}});
+    const FilterRun run = run_filter(params, track, bounce_t);
+    const FilterRun plain = run_filter(no_inflation, track, bounce_t);
+    std::printf(
+        "seed %u: recovered (< 50 mm/s) %.3f s after the bounce (%.3f s without inflation), "
+        "bounces %d\n",
+        seed, run.recovered_after_s, plain.recovered_after_s, run.bounces);
+    EXPECT_LE(run.recovered_after_s, 0.1) << "seed " << seed;
+    EXPECT_GE(run.bounces, 1);
+    EXPECT_GT(plain.recovered_after_s, run.recovered_after_s);
+  }
+}
+
+TEST(BallKalmanFilterTest, PredictMatchesTheRollingKinematicsAndCovarianceStaysValid) {
+  BallKalmanParams params;
+  params.acceleration_mm_s2 = 3000.0;
+  params.accel_sigma_x_mm_s2 = 0.0;
+  params.accel_sigma_y_mm_s2 = 0.0;
+  BallKalmanFilter kf(params);
+  kf.initialise({100.0, 200.0}, Eigen::Matrix2d::Identity(), {50.0, 400.0});
+  kf.predict(0.2);
+  EXPECT_NEAR(kf.position().x(), 110.0, 1e-9);
+  EXPECT_NEAR(kf.position().y(), 200.0 + 80.0 + 0.5 * 3000.0 * 0.04, 1e-9);
+  EXPECT_NEAR(kf.velocity().y(), 400.0 + 600.0, 1e-9);
+  // Position variance grew by T^2 sigma_v^2.
+  const double sv = params.initial_velocity_sigma_mm_s;
+  EXPECT_NEAR(kf.covariance()(0, 0), 1.0 + 0.04 * sv * sv, 1e-6);
+  kf.update({111.0, 340.0}, Eigen::Matrix2d::Identity());
+  const BallKalmanFilter::Covariance p = kf.covariance();
+  EXPECT_LT((p - p.transpose()).norm(), 1e-9);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(p).eigenvalues().minCoeff(), 0.0);
+  // Non-finite input changes nothing.
+  const auto before = kf.state();
+  EXPECT_FALSE(kf.update({std::nan(""), 0.0}, Eigen::Matrix2d::Identity()).applied);
+  EXPECT_EQ(kf.state(), before);
+}
+
+}  // namespace
+}  // namespace ephor::catching

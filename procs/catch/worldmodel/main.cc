@@ -1,0 +1,198 @@
+// ephor-catch-worldmodel: NASREM's Level 2 world model of the ball (paper
+// 000, section 5.4). Turns each of ephor-catch-vision's centroids into a 3-D
+// ball position (the ray through the centroid meets the board plane raised
+// by the ball's radius), applies the paper's two filters (off the board;
+// jumps the incline does not allow), filters position and velocity in the
+// board plane (Kalman) and predicts where and when the ball leaves the
+// bottom edge and crosses the catch plane, for every frame.
+//
+//   subscribes  CATCH_BALL (catch_ball_t), CATCH_BOARD_POSE (catch_board_pose_t,
+//               the camera's pose), CATCH_SURVEY (catch_survey_t, the board in W)
+//   publishes   CATCH_WORLD (catch_world_t), one per CATCH_BALL once both
+//               poses are known
+//   tasks       model (triggered by CATCH_BALL: always the newest one)
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/config/repo_paths.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/mailbox.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/catch_ball_t.hpp"
+#include "ephor/catch_board_pose_t.hpp"
+#include "ephor/catch_survey_t.hpp"
+#include "ephor/catch_world_t.hpp"
+#include "procs/catch/board/board_file.h"
+#include "procs/catch/board/board_survey.h"
+#include "procs/catch/board/camera_file.h"
+#include "procs/catch/board/catch_channels.h"
+#include "procs/catch/worldmodel/ball_world_model.h"
+
+namespace {
+
+using namespace ephor;
+using namespace ephor::catching;
+
+catch_world_t to_message(const BallFrame& f, const catch_ball_t& ball) {
+  catch_world_t m{};
+  m.utime = ball.utime;
+  m.frame_index = ball.frame_index;
+  m.ball_id = f.ball_id;
+  switch (f.status) {
+    case BallStatus::kNoBall:
+      m.status = catch_world_t::STATUS_NO_BALL;
+      break;
+    case BallStatus::kTracking:
+      m.status = catch_world_t::STATUS_TRACKING;
+      break;
+    case BallStatus::kRejected:
+      m.status = catch_world_t::STATUS_REJECTED;
+      break;
+    case BallStatus::kExited:
+      m.status = catch_world_t::STATUS_EXITED;
+      break;
+  }
+  if (f.reason != RejectReason::kNone) m.reason = to_string(f.reason);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k = 0; k < 2; ++k) {
+    m.position_b_mm[k] = f.has_state ? f.position_b_mm[k] : nan;
+    m.velocity_b_mm_s[k] = f.has_state ? f.velocity_b_mm_s[k] : nan;
+    m.measured_b_mm[k] = f.has_measurement ? f.measured_b_mm[k] : nan;
+  }
+  for (int k = 0; k < 3; ++k) m.position_w_mm[k] = f.has_state ? f.position_w_mm[k] : nan;
+  m.has_prediction = f.has_prediction;
+  if (f.has_prediction) {
+    m.exit_x_b_mm = f.exit.exit_x_b_mm;
+    m.exit_sigma_mm = f.exit.sigma_exit_x_mm;
+    m.exit_utime = f.exit_utime;
+    m.exit_sigma_s = f.exit.sigma_exit_time_s;
+    for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.exit.catch_point_w_mm[k];
+    m.catch_utime = f.catch_utime;
+  }
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  block_shutdown_signals();
+  CLI::App app{
+      "ephor-catch-worldmodel: the ball on the board in 3-D, filtered, its exit predicted"};
+  ProcessArgs args;
+  add_process_flags(app, args, "worldmodel");
+  std::string board_path = "deploy/catch/board.pbtxt", camera_path = "deploy/catch/camera.pbtxt";
+  double duration_s = 0.0;
+  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--camera", camera_path, "camera file (procs/catch/board/camera.proto)");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const BoardSpec board = load_board_file(resolve_repo_path(board_path));
+    const CameraIntrinsics intrinsics = load_camera_file(resolve_repo_path(camera_path));
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+
+    std::mutex mutex;
+    std::optional<Pose> board_to_camera;
+    std::optional<BoardPlacement> placement;
+    std::optional<BallWorldModel> model;
+    Mailbox<catch_ball_t> balls;
+    std::atomic<int64_t> bad_messages{0}, published{0};
+
+    bus.subscribe<catch_board_pose_t>(channels::kBoardPose, [&](const catch_board_pose_t& m) {
+      if (!m.valid) return;
+      Pose pose = Pose::Identity();
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) pose.linear()(i, j) = m.r[3 * i + j];
+        pose.translation()[i] = m.t_mm[i];
+      }
+      if (!pose.matrix().allFinite() || std::abs(pose.linear().determinant() - 1.0) > 1e-3) {
+        ++bad_messages;
+        spdlog::warn("CATCH_BOARD_POSE ignored: not a finite rotation");
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!board_to_camera)
+        spdlog::info(
+            "camera pose from the circles: board origin at ({:.1f}, {:.1f}, {:.1f}) mm in the "
+            "camera frame",
+            m.t_mm[0], m.t_mm[1], m.t_mm[2]);
+      board_to_camera = pose;
+    });
+    bus.subscribe<catch_survey_t>(channels::kSurvey, [&](const catch_survey_t& m) {
+      std::array<Eigen::Vector2d, 3> b;
+      std::array<Eigen::Vector3d, 3> w;
+      for (int i = 0; i < 3; ++i) {
+        b[i] = Eigen::Vector2d(m.board_mm[i][0], m.board_mm[i][1]);
+        w[i] = Eigen::Vector3d(m.world_mm[i][0], m.world_mm[i][1], m.world_mm[i][2]);
+      }
+      std::string why;
+      const auto fitted = placement_from_survey(board, b, w, why);
+      if (!fitted) {
+        ++bad_messages;
+        spdlog::warn("CATCH_SURVEY ignored: {}", why);
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!placement)
+        spdlog::info("board in the work cell from the survey: incline {:.2f} deg",
+                     fitted->incline_rad * 180.0 / M_PI);
+      placement = fitted;
+    });
+    bus.subscribe<catch_ball_t>(channels::kBall, [&](const catch_ball_t& m) {
+      balls.put(m);
+      runtime.trigger("model");
+    });
+
+    runtime.add_triggered("model", std::chrono::milliseconds(8), [&] {
+      auto ball = balls.take();
+      if (!ball) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!model) {
+        if (!board_to_camera || !placement) return;  // not initialised yet
+        model.emplace(board, *placement, intrinsics, *board_to_camera);
+        spdlog::info("initialised: tracking");
+      }
+      std::optional<Eigen::Vector2d> centroid;
+      if (ball->found) {
+        if (!std::isfinite(ball->u) || !std::isfinite(ball->v)) {
+          ++bad_messages;
+        } else {
+          centroid = Eigen::Vector2d(ball->u, ball->v);
+        }
+      }
+      const BallFrame& f = model->update(ball->utime, centroid);
+      catch_world_t out = to_message(f, *ball);
+      out.latency_ms = static_cast<float>(static_cast<double>(wall_us() - ball->utime) / 1e3);
+      bus.publish(channels::kWorld, out);
+      ++published;
+    });
+
+    runtime.start();
+    spdlog::info(
+        "ready: waiting for the camera pose (CATCH_BOARD_POSE) and the board survey "
+        "(CATCH_SURVEY)");
+    wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    std::lock_guard<std::mutex> lock(mutex);
+    spdlog::info("summary: {} outputs, {} exits, {} lost, {} bad messages", published.load(),
+                 model ? model->exits() : 0, model ? model->lost() : 0, bad_messages.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
