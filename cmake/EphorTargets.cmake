@@ -21,7 +21,7 @@ endfunction()
 
 # ephor_library(NAME SOURCES a.cc b.cc DEPS dep1 dep2)
 # A static library of pure code; its include root is the repository root, so
-# headers are included as "procs/vision/blobifier.h" or "common/lcm/bus.h".
+# headers are included as "procs/shepherd/vision/blobifier.h" or "common/lcm/bus.h".
 function(ephor_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_library(${name} STATIC ${ARG_SOURCES})
@@ -90,3 +90,19 @@ function(ephor_proto_library name)
   target_include_directories(${name} SYSTEM PUBLIC ${CMAKE_BINARY_DIR})
   target_link_libraries(${name} PUBLIC protobuf::libprotobuf)
 endfunction()
+
+# ephor_add_subfolders()
+# Adds every subfolder of the current folder that has a CMakeLists.txt, in
+# name order. EPHOR_ONLY_DIRS (a developer option: a list of folder names)
+# limits the build to some of them.
+macro(ephor_add_subfolders)
+  file(GLOB _ephor_children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}
+       ${CMAKE_CURRENT_SOURCE_DIR}/*)
+  list(SORT _ephor_children)
+  foreach(_ephor_child ${_ephor_children})
+    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${_ephor_child}/CMakeLists.txt
+       AND (NOT EPHOR_ONLY_DIRS OR _ephor_child IN_LIST EPHOR_ONLY_DIRS))
+      add_subdirectory(${_ephor_child})
+    endif()
+  endforeach()
+endmacro()

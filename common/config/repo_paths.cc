@@ -20,4 +20,10 @@ std::string default_calibration_path() {
   return (repo_dir() / "deploy" / "calibration" / "sim.pbtxt").string();
 }
 
+std::string resolve_repo_path(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (path.empty() || p.is_absolute() || std::filesystem::exists(p)) return path;
+  return (repo_dir() / p).string();
+}
+
 }  // namespace ephor

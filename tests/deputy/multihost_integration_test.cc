@@ -1,4 +1,4 @@
-// The two-machine procedure of procs/deputy/README.md, with machines made of
+// The two-machine procedure of procs/shared/deputy/README.md, with machines made of
 // network namespaces: hosts "planning" and "arm" each in a namespace of its
 // own (tests/deputy/host-netns), joined by veth pairs to a bridge in the
 // test's namespace, where the sheriff runs (the "anywhere" machine). LCM
@@ -25,8 +25,8 @@
 #include "ephor/arm_ack_t.hpp"
 #include "ephor/arm_state_t.hpp"
 #include "ephor/deputy_status_t.hpp"
-#include "ephor/ground_truth_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 #include "tests/integration/harness.h"
 
 namespace ephor::testing {
@@ -46,11 +46,11 @@ class Watch {
       std::lock_guard<std::mutex> lock(mutex_);
       ++arm_states_;
     });
-    bus_.subscribe<objects_t>("OBJECTS", [this](const objects_t& o) {
+    bus_.subscribe<shepherd_objects_t>("OBJECTS", [this](const shepherd_objects_t& o) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (o.num_objects > 0) ++tracked_;
     });
-    bus_.subscribe<ground_truth_t>(channels::kGroundTruth, [this](const ground_truth_t& t) {
+    bus_.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [this](const shepherd_ground_truth_t& t) {
       std::lock_guard<std::mutex> lock(mutex_);
       herd_ = {t.sim_time_s, t.escapes, t.saves};
     });

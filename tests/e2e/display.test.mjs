@@ -106,11 +106,11 @@ try {
     () => page.click('#btn-pause'));
   check(r.code === 0, `resumed: BLOBS flow again (${r.result && r.result.counts.BLOBS} in ${r.result && r.result.elapsed_s.toFixed(2)} s)`);
 
-  // 4. Trackify: the vision process reports mode 1 in blobs_t.
+  // 4. Trackify: the vision process reports mode 1 in shepherd_blobs_t.
   r = await probe(['--want', 'mode=0', '--timeout-s', '3']);
-  check(r.code === 0, 'vision starts in blobify (blobs_t.mode 0)');
+  check(r.code === 0, 'vision starts in blobify (shepherd_blobs_t.mode 0)');
   r = await probe(['--want', 'mode=1', '--timeout-s', '5'], () => page.click('#btn-trackify'));
-  check(r.code === 0, `trackify: blobs_t.mode becomes 1 (${r.result && r.result.elapsed_s.toFixed(2)} s)`);
+  check(r.code === 0, `trackify: shepherd_blobs_t.mode becomes 1 (${r.result && r.result.elapsed_s.toFixed(2)} s)`);
 
   // 5. Malformed requests: HTTP 400 with a reason, no command on LCM, state unchanged.
   const controls = () => page.evaluate(async () => (await (await fetch('api/state')).json()).controls);

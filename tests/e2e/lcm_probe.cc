@@ -6,7 +6,7 @@
 //   ephor-e2e-probe --want messages --channel BLOBS [--min 10] [--timeout-s 5]
 //       succeeds once `min` messages arrived
 //   ephor-e2e-probe --want mode=1   [--timeout-s 5]
-//       succeeds once a blobs_t with that mode (vision_cmd_t.MODE_*) arrived
+//       succeeds once a shepherd_blobs_t with that mode (shepherd_vision_cmd_t.MODE_*) arrived
 //   ephor-e2e-probe --want count    [--window-s 2]
 //       counts every channel for `window-s`; always succeeds
 // Prints "listening" when subscribed, then one JSON line: {"ok":…, "counts":{…},
@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/lcm/bus.h"
-#include "ephor/blobs_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
 
 namespace {
 
@@ -39,7 +39,7 @@ struct Probe {
     ++counts[ch];
     if (ch == channel) last_on_channel = Clock::now();
     if (ch == "BLOBS") {
-      ephor::blobs_t m;
+      ephor::shepherd_blobs_t m;
       if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0) blobs_mode = m.mode;
     }
   }

@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "procs/launcher/process_group.h"
+#include "common/launch/process_group.h"
 
 namespace ephor::testing {
 

@@ -31,8 +31,8 @@
 
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
-#include "ephor/ground_truth_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 #include "tests/integration/harness.h"
 
 namespace ephor::testing {
@@ -147,8 +147,8 @@ struct TruthScore {
   int id_switches = 0;
 };
 
-TruthScore score(const std::vector<objects_t>& objects, const std::vector<ground_truth_t>& truth) {
-  std::map<int64_t, const ground_truth_t*> by_utime;
+TruthScore score(const std::vector<shepherd_objects_t>& objects, const std::vector<shepherd_ground_truth_t>& truth) {
+  std::map<int64_t, const shepherd_ground_truth_t*> by_utime;
   for (const auto& t : truth) by_utime[t.utime] = &t;
   TruthScore s;
   std::map<int, int> id_of;        // sim sheep id -> object id
@@ -171,10 +171,10 @@ TruthScore score(const std::vector<objects_t>& objects, const std::vector<ground
       if (sheep.x_mm < 30 || sheep.y_mm < 30 || sheep.x_mm > 1189 || sheep.y_mm > 884) continue;
       ++s.sheep_frames;
       s.settled_sheep_frames += settled;
-      const object_t* best = nullptr;
+      const shepherd_object_t* best = nullptr;
       double best_d = 1e9;
       for (const auto& o : objs.objects) {
-        if (o.state != object_t::STATE_VISIBLE) continue;
+        if (o.state != shepherd_object_t::STATE_VISIBLE) continue;
         const double d = std::hypot(o.u - sheep.u, o.v - sheep.v);
         if (d < best_d) {
           best_d = d;
@@ -249,21 +249,21 @@ TEST_F(ReplayTest, ReproducesTheRecordedTracksExactlyAndIdenticallyTwice) {
             0);
   EXPECT_TRUE(bytes_of(out1) == bytes_of(out2)) << "two replays of one log differ";
 
-  const auto recorded = decode_all<objects_t>(read_log(recorded_), channels::kObjects);
-  const auto replayed = decode_all<objects_t>(read_log(out1), channels::kObjects);
-  std::map<int64_t, const objects_t*> replayed_at;
+  const auto recorded = decode_all<shepherd_objects_t>(read_log(recorded_), channels::kObjects);
+  const auto replayed = decode_all<shepherd_objects_t>(read_log(out1), channels::kObjects);
+  std::map<int64_t, const shepherd_objects_t*> replayed_at;
   for (const auto& m : replayed) replayed_at[m.utime] = &m;
   ASSERT_GE(recorded.size(), static_cast<size_t>(kRecordedObjects));
   int equal = 0, objects = 0;
   for (const auto& rec : recorded) {
     const auto it = replayed_at.find(rec.utime);
     ASSERT_NE(it, replayed_at.end()) << "no replayed OBJECTS for frame " << rec.frame_index;
-    const objects_t& rep = *it->second;
+    const shepherd_objects_t& rep = *it->second;
     EXPECT_EQ(rep.frame_index, rec.frame_index);
     ASSERT_EQ(rep.num_objects, rec.num_objects) << "frame " << rec.frame_index;
     for (int i = 0; i < rec.num_objects; ++i) {
-      const object_t& a = rec.objects[i];
-      const object_t& b = rep.objects[i];
+      const shepherd_object_t& a = rec.objects[i];
+      const shepherd_object_t& b = rep.objects[i];
       const bool same = a.id == b.id && a.state == b.state && a.u == b.u && a.v == b.v &&
                         a.x_mm == b.x_mm && a.y_mm == b.y_mm && a.vu_px_s == b.vu_px_s &&
                         a.vv_px_s == b.vv_px_s && a.vx_mm_s == b.vx_mm_s &&
@@ -286,8 +286,8 @@ TEST_F(ReplayTest, ReplayedTracksMeetTheTrackingTargetsAgainstGroundTruth) {
   const std::string out = (dir_ / "replay_all.lcm").string();
   ASSERT_EQ(replay({recorded_, "--procs", "vision,worldmodel", "--out", out}), 0);
   const auto log = read_log(recorded_);
-  const auto truth = decode_all<ground_truth_t>(log, channels::kGroundTruth);
-  const auto replayed = decode_all<objects_t>(read_log(out), channels::kObjects);
+  const auto truth = decode_all<shepherd_ground_truth_t>(log, channels::kGroundTruth);
+  const auto replayed = decode_all<shepherd_objects_t>(read_log(out), channels::kObjects);
   const TruthScore s = score(replayed, truth);
   std::printf(
       "replayed %zu OBJECTS, %d paired with ground truth; visible sheep-frames %d, tracked %d, "
@@ -338,7 +338,7 @@ TEST_F(ReplayTest, DroppedDuplicatedAndReorderedFramesAreHandled) {
   std::vector<std::string> lines;
   ASSERT_EQ(replay({path, "--procs", "vision,worldmodel", "--out", out}, &lines), 0)
       << "a process died or a frame timed out";
-  const auto replayed = decode_all<objects_t>(read_log(out), channels::kObjects);
+  const auto replayed = decode_all<shepherd_objects_t>(read_log(out), channels::kObjects);
   const auto blobs = read_log(out);
   int blob_msgs = 0;
   for (const auto& e : blobs) blob_msgs += e.channel == channels::kBlobs;
@@ -346,7 +346,7 @@ TEST_F(ReplayTest, DroppedDuplicatedAndReorderedFramesAreHandled) {
   // the late frame get no OBJECTS.
   EXPECT_EQ(blob_msgs, static_cast<int>(frames.size()));
   EXPECT_EQ(replayed.size(), frames.size() - 2);
-  const TruthScore s = score(replayed, decode_all<ground_truth_t>(events, channels::kGroundTruth));
+  const TruthScore s = score(replayed, decode_all<shepherd_ground_truth_t>(events, channels::kGroundTruth));
   std::printf(
       "damaged log: %zu OBJECTS; tracked %d of %d sheep-frames, max error %.3f px, %d id "
       "switches\n",

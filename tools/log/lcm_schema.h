@@ -46,7 +46,7 @@ struct LcmMember {
 
 struct LcmStruct {
   std::string package;  // "ephor"
-  std::string name;     // short name, "objects_t"
+  std::string name;     // short name, "shepherd_objects_t"
   std::string file;     // where it was defined
   std::vector<LcmMember> members;
   std::string full_name() const { return package.empty() ? name : package + "." + name; }
@@ -65,7 +65,7 @@ class LcmSchema {
   // fingerprints. Throws SchemaError.
   void resolve();
 
-  // By full ("ephor.objects_t") or short ("objects_t") name; nullptr if none.
+  // By full ("ephor.shepherd_objects_t") or short ("shepherd_objects_t") name; nullptr if none.
   const LcmStruct* find(const std::string& name) const;
   // The struct whose fingerprint (the first 8 bytes of an encoded message,
   // big-endian) is `fingerprint`; nullptr if none.

@@ -3,11 +3,11 @@
 // lcm::LogFile) on the channels matching a regular expression, decoded by
 // LcmSchema/MessageDecoder and written as
 //   JSON lines: one object per message,
-//     {"log_utime_us": T, "channel": "OBJECTS", "type": "ephor.objects_t", "msg": {...}}
+//     {"log_utime_us": T, "channel": "OBJECTS", "type": "ephor.shepherd_objects_t", "msg": {...}}
 //     where T is when the logger received it (us since the Unix epoch);
 //   CSV: a header row, then one row per message, or, for a message holding a
-//     variable-length array of structs (objects_t.objects, ground_truth_t.sheep,
-//     task_jobs_t.jobs, blobs_t.blobs), one row per element with the
+//     variable-length array of structs (shepherd_objects_t.objects, shepherd_ground_truth_t.sheep,
+//     task_jobs_t.jobs, shepherd_blobs_t.blobs), one row per element with the
 //     message's other fields repeated (a message whose array is empty still
 //     gives one row, with the element's columns empty). Nested structs become
 //     dotted columns (header.seq), small fixed arrays one column per element

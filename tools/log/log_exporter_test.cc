@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
-#include "ephor/ground_truth_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 
 #include "tools/log/repo_schema_for_tests.h"
 
@@ -31,14 +31,14 @@ void write(lcm::LogFile& log, int64_t t_us, const std::string& channel, const T&
   ASSERT_EQ(log.writeEvent(&e), 0);
 }
 
-ephor::objects_t objects(int64_t seq, int n) {
-  ephor::objects_t m{};
+ephor::shepherd_objects_t objects(int64_t seq, int n) {
+  ephor::shepherd_objects_t m{};
   m.utime = 1000 + seq;
   m.header.sender = "worldmodel";
   m.header.seq = seq;
   m.frame_index = seq;
   for (int i = 0; i < n; ++i) {
-    ephor::object_t o{};
+    ephor::shepherd_object_t o{};
     o.id = i + 1;
     o.u = static_cast<float>(10 * seq + i);
     m.objects.push_back(o);
@@ -54,7 +54,7 @@ std::string make_log() {
   lcm::LogFile log(path, "w");
   EXPECT_TRUE(log.good());
   write(log, 10, "OBJECTS", objects(0, 2));
-  ephor::ground_truth_t gt{};
+  ephor::shepherd_ground_truth_t gt{};
   gt.header.sender = "sim";
   gt.num_sheep = 1;
   gt.sheep.resize(1);
@@ -112,7 +112,7 @@ TEST(LogExporter, JsonLinesCarryChannelTypeAndMessage) {
   ASSERT_EQ(lines.size(), 1u);
   const auto j = Json::parse(lines[0]);
   EXPECT_EQ(j["log_utime_us"].get<int64_t>(), 20);
-  EXPECT_EQ(j["type"], "ephor.ground_truth_t");
+  EXPECT_EQ(j["type"], "ephor.shepherd_ground_truth_t");
   EXPECT_DOUBLE_EQ(j["msg"]["sheep"][0]["x_mm"].get<double>(), 512.5);
   EXPECT_EQ(j["msg"]["sheep"][0]["visible"], true);
   std::filesystem::remove(log);
@@ -133,7 +133,7 @@ TEST(LogSummary, CountsMessagesAndMissingSequenceNumbers) {
   const auto channels = summarize_log(schema(), log);
   ASSERT_EQ(channels.size(), 2u);
   EXPECT_EQ(channels[1].channel, "OBJECTS");
-  EXPECT_EQ(channels[1].type, "ephor.objects_t");
+  EXPECT_EQ(channels[1].type, "ephor.shepherd_objects_t");
   EXPECT_EQ(channels[1].count, 4);
   EXPECT_EQ(channels[1].missing, 1);  // seq 2
   EXPECT_EQ(channels[1].undecodable, 1);

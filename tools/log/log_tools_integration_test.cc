@@ -90,9 +90,9 @@ TEST(LogTools, RecordARunExportItPlotItAndReplayIt) {
   ASSERT_EQ(info_exit.code, 0) << joined(info);
   for (const auto& [ch, type] : std::vector<std::pair<std::string, std::string>>{
            {"CAMERA", "ephor.camera_frame_t"},
-           {"GROUND_TRUTH", "ephor.ground_truth_t"},
-           {"BLOBS", "ephor.blobs_t"},
-           {"OBJECTS", "ephor.objects_t"},
+           {"GROUND_TRUTH", "ephor.shepherd_ground_truth_t"},
+           {"BLOBS", "ephor.shepherd_blobs_t"},
+           {"OBJECTS", "ephor.shepherd_objects_t"},
            {"ARM_STATE", "ephor.arm_state_t"},
            {"EPHOR_TASK_JOBS", "ephor.task_jobs_t"},
            {"EPHOR_SCHED_STATUS", "ephor.sched_status_t"}}) {
@@ -108,7 +108,7 @@ TEST(LogTools, RecordARunExportItPlotItAndReplayIt) {
             << camera->missing << "\n"
             << joined(info);
 
-  // Export: one CSV row per object, with the fields of object_t.
+  // Export: one CSV row per object, with the fields of shepherd_object_t.
   const std::string csv = dir + "/objects.csv";
   const auto [exp_exit, exp_out] = run_tool(
       "export", tool, {"export", log, "--channel", "OBJECTS", "--csv", "--out", csv}, seconds(60));

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "ephor/camera_frame_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 #include "ephor/task_jobs_t.hpp"
 
 #include "tools/log/repo_schema_for_tests.h"
@@ -25,18 +25,18 @@ std::vector<uint8_t> encode(const T& msg) {
   return buf;
 }
 
-ephor::objects_t two_objects() {
-  ephor::objects_t m;
+ephor::shepherd_objects_t two_objects() {
+  ephor::shepherd_objects_t m;
   m.utime = 1700000000123456;
   m.header.utime = 1700000000124000;
   m.header.sender = "worldmodel";
   m.header.seq = 41;
   m.frame_index = 1234;
   for (int i = 0; i < 2; ++i) {
-    ephor::object_t o{};
+    ephor::shepherd_object_t o{};
     o.id = 7 + i;
-    o.state = static_cast<int8_t>(i == 0 ? ephor::object_t::STATE_VISIBLE
-                                         : ephor::object_t::STATE_OBSCURED);
+    o.state = static_cast<int8_t>(i == 0 ? ephor::shepherd_object_t::STATE_VISIBLE
+                                         : ephor::shepherd_object_t::STATE_OBSCURED);
     o.u = 100.5f + static_cast<float>(i);
     o.v = -3.25f;
     o.x_mm = 812.0f;
@@ -53,14 +53,14 @@ TEST(MessageDecoder, DecodesNestedStructsArraysAndSignedValues) {
   const auto buf = encode(two_objects());
   const auto msg = MessageDecoder(schema()).decode(buf.data(), buf.size());
   ASSERT_NE(msg.type, nullptr);
-  EXPECT_EQ(msg.type->full_name(), "ephor.objects_t");
+  EXPECT_EQ(msg.type->full_name(), "ephor.shepherd_objects_t");
   const Json& j = msg.fields;
   EXPECT_EQ(j["utime"].get<int64_t>(), 1700000000123456);
   EXPECT_EQ(j["header"]["sender"], "worldmodel");
   EXPECT_EQ(j["header"]["seq"].get<int64_t>(), 41);
   ASSERT_EQ(j["objects"].size(), 2u);
   EXPECT_EQ(j["objects"][1]["id"].get<int>(), 8);
-  EXPECT_EQ(j["objects"][1]["state"].get<int>(), int{ephor::object_t::STATE_OBSCURED});
+  EXPECT_EQ(j["objects"][1]["state"].get<int>(), int{ephor::shepherd_object_t::STATE_OBSCURED});
   EXPECT_DOUBLE_EQ(j["objects"][1]["u"].get<double>(), 101.5);
   EXPECT_DOUBLE_EQ(j["objects"][0]["v"].get<double>(), -3.25);
   EXPECT_DOUBLE_EQ(j["objects"][0]["vx_mm_s"].get<double>(), -12.5);
@@ -137,7 +137,7 @@ TEST(MessageDecoder, BrokenMessagesGiveAClearError) {
   }
   EXPECT_THROW(d.decode(buf.data(), 4), DecodeError);
   // A negative array size (num_objects = -1) is refused, not allocated.
-  auto negative = encode(ephor::objects_t{});
+  auto negative = encode(ephor::shepherd_objects_t{});
   for (size_t i = negative.size() - 4; i < negative.size(); ++i) negative[i] = 0xff;
   EXPECT_THROW(d.decode(negative.data(), negative.size()), DecodeError);
 }

@@ -40,7 +40,7 @@
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
 #include "ephor/task_register_t.hpp"
-#include "procs/launcher/process_group.h"
+#include "common/launch/process_group.h"
 #include "tools/replay/replay_plan.h"
 
 namespace {

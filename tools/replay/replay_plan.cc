@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "common/lcm/channels.h"
-#include "ephor/blobs_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 
 namespace ephor::replay {
 namespace {
@@ -80,15 +80,15 @@ std::optional<int64_t> message_utime(const void* data, int size) {
 
 std::vector<uint8_t> normalised_output(const std::string& channel, const void* data, int size) {
   if (channel == channels::kBlobs) {
-    return reencode<blobs_t>(
-        channel, data, size, +[](blobs_t& m) {
+    return reencode<shepherd_blobs_t>(
+        channel, data, size, +[](shepherd_blobs_t& m) {
           m.header.utime = 0;
           m.processing_us = 0.0f;
         });
   }
   if (channel == channels::kObjects) {
-    return reencode<objects_t>(
-        channel, data, size, +[](objects_t& m) { m.header.utime = 0; });
+    return reencode<shepherd_objects_t>(
+        channel, data, size, +[](shepherd_objects_t& m) { m.header.utime = 0; });
   }
   const auto* p = static_cast<const uint8_t*>(data);
   return std::vector<uint8_t>(p, p + size);

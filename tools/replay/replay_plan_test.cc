@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "ephor/blobs_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 
 namespace ephor::replay {
 namespace {
@@ -49,7 +49,7 @@ TEST(ReplayPlanTest, BadProcessListsAreNamed) {
 }
 
 TEST(ReplayPlanTest, UtimeIsReadFromAnyMessage) {
-  blobs_t b{};
+  shepherd_blobs_t b{};
   b.utime = 1234567890123;
   const auto bytes = encode(b);
   EXPECT_EQ(message_utime(bytes.data(), static_cast<int>(bytes.size())), 1234567890123);
@@ -57,17 +57,17 @@ TEST(ReplayPlanTest, UtimeIsReadFromAnyMessage) {
 }
 
 TEST(ReplayPlanTest, NormalisedOutputsDropOnlyTheReplaysOwnTimes) {
-  blobs_t b{};
+  shepherd_blobs_t b{};
   b.utime = 42;
   b.header.utime = 99;
   b.header.sender = "vision";
   b.header.seq = 7;
   b.processing_us = 812.5f;
   b.num_blobs = 1;
-  b.blobs = {blob_t{10.5f, 20.25f, 30, 1, 2, 3, 4}};
+  b.blobs = {shepherd_blob_t{10.5f, 20.25f, 30, 1, 2, 3, 4}};
   const auto bytes = encode(b);
   const auto norm = normalised_output("BLOBS", bytes.data(), static_cast<int>(bytes.size()));
-  blobs_t back;
+  shepherd_blobs_t back;
   ASSERT_EQ(back.decode(norm.data(), 0, static_cast<int>(norm.size())),
             static_cast<int>(norm.size()));
   EXPECT_EQ(back.utime, 42);
@@ -76,11 +76,11 @@ TEST(ReplayPlanTest, NormalisedOutputsDropOnlyTheReplaysOwnTimes) {
   EXPECT_EQ(back.processing_us, 0.0f);
   EXPECT_EQ(back.blobs[0].v, 20.25f);
 
-  objects_t o{};
+  shepherd_objects_t o{};
   o.header.utime = 5;
   const auto obytes = encode(o);
   const auto onorm = normalised_output("OBJECTS", obytes.data(), static_cast<int>(obytes.size()));
-  objects_t oback;
+  shepherd_objects_t oback;
   oback.decode(onorm.data(), 0, static_cast<int>(onorm.size()));
   EXPECT_EQ(oback.header.utime, 0);
   EXPECT_THROW(normalised_output("OBJECTS", bytes.data(), static_cast<int>(bytes.size())),

@@ -15,8 +15,8 @@
 
 #include "common/lcm/bus.h"
 #include "ephor/camera_frame_t.hpp"
-#include "ephor/ground_truth_t.hpp"
-#include "ephor/objects_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
 #include "tests/integration/harness.h"
 
 namespace ephor::testing {
@@ -65,17 +65,17 @@ TEST(Spy, DecodesOurTypesFromALivePublisher) {
     Bus bus(kUrl, "spy_test");
     int64_t frame = 0;
     while (!stop) {
-      objects_t o{};
+      shepherd_objects_t o{};
       o.utime = 1'700'000'000'000'000 + frame * 50'000;
       o.frame_index = 1000 + frame;
-      object_t obj{};
+      shepherd_object_t obj{};
       obj.id = 42;
       obj.u = 123.5f;
       obj.v = 456.25f;
       o.objects = {obj};
       o.num_objects = 1;
       bus.publish("OBJECTS", o);
-      ground_truth_t gt{};
+      shepherd_ground_truth_t gt{};
       gt.utime = o.utime;
       gt.frame_index = o.frame_index;
       gt.sheep.resize(2);
@@ -109,8 +109,8 @@ TEST(Spy, DecodesOurTypesFromALivePublisher) {
 
   // lcm-spy's channel table names our classes, with no undecodable messages.
   const std::string table = read_file(out + "/channels.txt");
-  EXPECT_NE(table.find("OBJECTS\tephor.objects_t\t"), std::string::npos) << table;
-  EXPECT_NE(table.find("GROUND_TRUTH\tephor.ground_truth_t\t"), std::string::npos) << table;
+  EXPECT_NE(table.find("OBJECTS\tephor.shepherd_objects_t\t"), std::string::npos) << table;
+  EXPECT_NE(table.find("GROUND_TRUTH\tephor.shepherd_ground_truth_t\t"), std::string::npos) << table;
   EXPECT_NE(table.find("CAMERA\tephor.camera_frame_t\t"), std::string::npos) << table;
   // Its decoded message carries what we published.
   const std::string objects = read_file(out + "/OBJECTS.txt");

@@ -75,7 +75,7 @@ constexpr double kGravityMmS2 = 9810.0;
 // the arm, (-cos i, 0, -sin i) in W; B's x axis is +y of W.
 struct BoardPlacement {
   double incline_rad = 25.0 * 3.14159265358979323846 / 180.0;
-  Eigen::Vector3d bottom_centre_w_mm{550.0, 0.0, 250.0};
+  Eigen::Vector3d bottom_centre_w_mm{550.0, 500.0, 250.0};  // deploy/catch/workcell.pbtxt: the PUMA at (0, 500)
 };
 
 // p_W = board_to_world(...) * p_B.

@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
     std::atomic<int64_t> goals{0}, bad_messages{0};
     const int64_t run_id = wall_us();  // goal ids unique across restarts
 
-    bus.subscribe<catch_survey_t>(channels::kSurvey, [&](const catch_survey_t& m) {
+    bus.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
       std::array<Eigen::Vector2d, 3> b;
       std::array<Eigen::Vector3d, 3> w;
       for (int i = 0; i < 3; ++i) {
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(mutex);
       cup = p;
     });
-    bus.subscribe<catch_world_t>(channels::kWorld, [&](const catch_world_t& m) {
+    bus.subscribe<catch_world_t>(catching::channels::kWorld, [&](const catch_world_t& m) {
       worlds.put(m);
       runtime.trigger("plan");
     });

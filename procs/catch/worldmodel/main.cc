@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
     Mailbox<catch_ball_t> balls;
     std::atomic<int64_t> bad_messages{0}, published{0};
 
-    bus.subscribe<catch_board_pose_t>(channels::kBoardPose, [&](const catch_board_pose_t& m) {
+    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
       if (!m.valid) return;
       Pose pose = Pose::Identity();
       for (int i = 0; i < 3; ++i) {
@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
             m.t_mm[0], m.t_mm[1], m.t_mm[2]);
       board_to_camera = pose;
     });
-    bus.subscribe<catch_survey_t>(channels::kSurvey, [&](const catch_survey_t& m) {
+    bus.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
       std::array<Eigen::Vector2d, 3> b;
       std::array<Eigen::Vector3d, 3> w;
       for (int i = 0; i < 3; ++i) {
@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
                      fitted->incline_rad * 180.0 / M_PI);
       placement = fitted;
     });
-    bus.subscribe<catch_ball_t>(channels::kBall, [&](const catch_ball_t& m) {
+    bus.subscribe<catch_ball_t>(catching::channels::kBall, [&](const catch_ball_t& m) {
       balls.put(m);
       runtime.trigger("model");
     });
@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
       const BallFrame& f = model->update(ball->utime, centroid);
       catch_world_t out = to_message(f, *ball);
       out.latency_ms = static_cast<float>(static_cast<double>(wall_us() - ball->utime) / 1e3);
-      bus.publish(channels::kWorld, out);
+      bus.publish(catching::channels::kWorld, out);
       ++published;
     });
 

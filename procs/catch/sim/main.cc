@@ -1,0 +1,318 @@
+// ephor-catch-sim: the simulated ball-catching cell in real time (paper 000):
+// the pegged board and its rolling ball (BoardWorld), the camera at its
+// per-seed pose (BoardRenderer, 60 Hz), and the PUMA 560's servo layer
+// (ArmServo) holding the cup. Balls are released one after another; each is
+// judged caught or missed from geometry when it crosses the catch plane.
+//
+//   ephor-catch-sim --seed 1 --balls 10
+//
+// Tasks (scheduled by ephor-scheduler through the TaskRuntime):
+//   physics  every 2 ms: advances board and servo to the monotonic clock in
+//            1 ms steps, publishes ARM_SERVO (joint_state_t) every 4 ms
+//   camera   every 1/fps: renders CAMERA (camera_frame_t) and CATCH_TRUTH
+//            (catch_truth_t, same utime and frame_index)
+// Subscribes ARM_TRAJECTORY (joint_trajectory_t; malformed ones are logged,
+// counted and ignored). Publishes CATCH_SURVEY every second: the three board
+// points the arm's tool touched (see below).
+//
+// With --balls N > 0 the process exits with status 0 one second after the
+// N-th ball is judged (the manifest's ends_run stops the run then).
+//
+// Not simulated: the calibration command that drives the arm to touch three
+// points of the board (paper 000, section 3). The simulator publishes the
+// three touched points as that procedure would measure them: the true board
+// points in W with 0.5 mm of Gaussian measurement noise per axis.
+//
+// Time: simulated time runs with CLOCK_MONOTONIC from start-up; a message's
+// utime is the wall clock at start plus the simulated time of its state.
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/arm/arm_servo.h"
+#include "common/arm/arm_workcell.h"
+#include "common/arm/servo_messages.h"
+#include "common/config/repo_paths.h"
+#include "common/geometry/workcell_file.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/motion/motion_planner.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/camera_frame_t.hpp"
+#include "ephor/catch_survey_t.hpp"
+#include "ephor/catch_truth_t.hpp"
+#include "ephor/joint_state_t.hpp"
+#include "ephor/joint_trajectory_t.hpp"
+#include "procs/catch/board/board_file.h"
+#include "procs/catch/board/board_model.h"
+#include "procs/catch/board/catch_channels.h"
+#include "procs/catch/sim/ball_sequence.h"
+#include "procs/catch/sim/board_renderer.h"
+#include "procs/catch/sim/board_world.h"
+#include "procs/catch/sim/catch_cell.h"
+#include "procs/catch/sim/catch_scenario.h"
+
+namespace {
+
+using namespace ephor;
+using namespace ephor::catching;
+
+constexpr double kStepS = 0.001;
+constexpr double kMaxLagS = 0.5;
+
+// The state behind one frame as catch_truth_t (caller holds the mutex).
+catch_truth_t to_truth(const CatchScenario& scenario, const BoardWorld& world,
+                       const BallSequence& balls, const CatchCell& cell, const arm::Joints& q) {
+  catch_truth_t m{};
+  const BallState s = world.state();
+  switch (balls.phase()) {
+    case BallSequence::Phase::kWaiting:
+      m.phase = catch_truth_t::PHASE_WAITING;
+      break;
+    case BallSequence::Phase::kRolling:
+      m.phase = catch_truth_t::PHASE_ROLLING;
+      break;
+    case BallSequence::Phase::kFlying:
+      m.phase = catch_truth_t::PHASE_FLYING;
+      break;
+    case BallSequence::Phase::kDone:
+      m.phase = catch_truth_t::PHASE_DONE;
+      break;
+  }
+  m.ball = balls.ball();
+  const Eigen::Vector3d w = scenario.board_to_world() * s.position_b_mm;
+  for (int k = 0; k < 3; ++k) {
+    m.ball_b_mm[k] = s.position_b_mm[k];
+    m.ball_w_mm[k] = w[k];
+  }
+  m.ball_velocity_b_mm_s[0] = s.velocity_b_mm_s.x();
+  m.ball_velocity_b_mm_s[1] = s.velocity_b_mm_s.y();
+  m.ball_px[0] = m.ball_px[1] = std::nan("");
+  if (const auto& e = balls.expected_exit()) m.exit_x_b_mm = e->x_b_mm;
+  const Eigen::Vector3d cup = cell.cup_w_mm(q);
+  for (int k = 0; k < 3; ++k) m.cup_w_mm[k] = cup[k];
+  m.incline_deg = scenario.placement.incline_rad * 180.0 / M_PI;
+  const Eigen::Matrix3d r = scenario.board_to_camera.linear();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m.board_to_camera_r[3 * i + j] = r(i, j);
+    m.board_to_camera_t_mm[i] = scenario.board_to_camera.translation()[i];
+  }
+  m.balls_done = balls.done();
+  m.caught = balls.caught();
+  m.oracle_reachable = balls.oracle_reachable();
+  m.last_ball = -1;
+  if (const auto& last = balls.last()) {
+    m.last_ball = last->ball;
+    m.last_caught = last->caught;
+    m.last_oracle_reachable = last->oracle_reachable;
+    m.last_reason = last->reason;
+  }
+  return m;
+}
+
+struct SimProcess {
+  std::mutex mutex;
+  CatchScenario scenario;
+  geometry::Workcell cell;
+  CatchCell catch_cell;
+  BoardWorld world;
+  sim::ArmServo servo;
+  std::optional<sim::JointTrajectory> pending;
+  BallSequence balls;
+  double clock_s = 0.0;
+  int64_t wall0_us = 0, mono0_ns = 0;
+  int servo_ticks = 0;
+  std::atomic<int64_t> frames{0}, trajectories_refused{0}, physics_skips{0};
+
+  SimProcess(CatchScenario s, const geometry::Workcell& c, int ball_count, double gap_s)
+      : scenario(std::move(s)),
+        cell(c),
+        catch_cell(scenario, cell),
+        world(scenario),
+        servo(catch_cell.puma().limits(), catch_cell.ready_joints()),
+        balls(scenario, ball_count, gap_s) {}
+  int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
+
+  // One 1 ms step of board, ball sequence and servo (caller holds mutex).
+  void step() {
+    if (pending) {
+      servo.follow(*pending);
+      pending.reset();
+    }
+    servo.step(kStepS);
+    world.step(kStepS);
+    clock_s += kStepS;
+    balls.step(world, catch_cell, servo.state().q, world.time_s());
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  block_shutdown_signals();
+  CLI::App app{"ephor-catch-sim: simulated pegged board, rolling ball, camera and PUMA 560 servo"};
+  ProcessArgs args;
+  add_process_flags(app, args, "sim");
+  uint64_t seed = 1;
+  int balls = 0;
+  double fps = 60.0, gap_s = 1.0, duration_s = 0.0;
+  std::string workcell_path = "deploy/catch/workcell.pbtxt",
+              board_path = "deploy/catch/board.pbtxt", png_path;
+  app.add_option("--seed", seed, "random seed: incline, pegs, camera pose, releases (default 1)");
+  app.add_option("--balls", balls, "balls to release, then exit 0 (0 = until stopped)")
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--fps", fps, "camera frames per second (default 60, the PIPE's field rate)")
+      ->check(CLI::Range(1.0, 240.0));
+  app.add_option("--gap-s", gap_s, "time between one ball's judgement and the next release, s")
+      ->check(CLI::Range(0.2, 60.0));
+  app.add_option("--workcell", workcell_path, "work cell file (common/geometry/workcell.proto)");
+  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  app.add_option("--write-png", png_path,
+                 "render the first frame with a ball to this PNG and exit");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const BoardSpec board = load_board_file(resolve_repo_path(board_path));
+    const geometry::Workcell cell = geometry::load_workcell_file(resolve_repo_path(workcell_path));
+    SimProcess p(CatchScenario::draw(seed, board), cell, balls, gap_s);
+    BoardRenderer renderer(p.scenario, CupSpec{}, seed);
+    cv::Mat image;
+
+    if (!png_path.empty()) {
+      const BallRelease r = p.scenario.release(0);
+      renderer.render(Eigen::Vector3d(r.x_mm, r.y_mm + 300.0, board.ball_radius_mm()),
+                      p.catch_cell.arm_view(p.servo.state().q), image);
+      cv::imwrite(png_path, image);
+      spdlog::info("wrote {}", png_path);
+      return 0;
+    }
+
+    camera_frame_t frame;
+    frame.width = renderer.width();
+    frame.height = renderer.height();
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+
+    bus.subscribe<joint_trajectory_t>(ephor::channels::kArmTrajectory, [&p](const joint_trajectory_t& m) {
+      std::string why;
+      auto t = sim::to_trajectory(m, why);
+      if (!t) {
+        ++p.trajectories_refused;
+        spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
+                     p.trajectories_refused.load());
+        return;
+      }
+      std::lock_guard<std::mutex> lock(p.mutex);
+      p.pending = std::move(*t);
+    });
+
+    p.wall0_us = wall_us();
+    p.mono0_ns = mono_ns();
+    auto advance_to_now = [&p] {
+      const double now_s = static_cast<double>(mono_ns() - p.mono0_ns) * 1e-9;
+      if (now_s - p.clock_s > kMaxLagS) {
+        ++p.physics_skips;
+        spdlog::warn("physics {:.3f} s behind the clock; skipping ahead", now_s - p.clock_s);
+        p.clock_s = now_s - kStepS;
+      }
+      while (p.clock_s + kStepS <= now_s) p.step();
+    };
+
+    runtime.add_periodic("physics", std::chrono::milliseconds(2), [&] {
+      joint_state_t m;
+      {
+        std::lock_guard<std::mutex> lock(p.mutex);
+        advance_to_now();
+        if (++p.servo_ticks % 2 != 0) return;  // ARM_SERVO at 250 Hz
+        m = sim::to_joint_state(p.servo.state(), p.utime_of(p.clock_s));
+      }
+      bus.publish(ephor::channels::kArmServo, m);
+    });
+
+    // The touched points: three board points, measured with 0.5 mm noise.
+    catch_survey_t survey{};
+    {
+      std::mt19937_64 rng(seed ^ 0x5eedULL);
+      std::normal_distribution<double> noise(0.0, 0.5);
+      const Pose b2w = p.scenario.board_to_world();
+      const double pts[3][2] = {{50.0, 50.0},
+                                {board.width_mm - 50.0, 50.0},
+                                {board.width_mm / 2.0, board.height_mm - 50.0}};
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d w = b2w * Eigen::Vector3d(pts[i][0], pts[i][1], 0.0);
+        for (int k = 0; k < 2; ++k) survey.board_mm[i][k] = pts[i][k];
+        for (int k = 0; k < 3; ++k) survey.world_mm[i][k] = w[k] + noise(rng);
+      }
+    }
+
+    std::atomic<bool> finished{false};
+    runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)), [&] {
+      std::optional<Eigen::Vector3d> ball;
+      ArmView arm;
+      catch_truth_t truth{};
+      {
+        std::lock_guard<std::mutex> lock(p.mutex);
+        advance_to_now();
+        const BallState s = p.world.state();
+        if (s.on_board) ball = s.position_b_mm;
+        arm = p.catch_cell.arm_view(p.servo.state().q);
+        truth = to_truth(p.scenario, p.world, p.balls, p.catch_cell, p.servo.state().q);
+        if (const auto& e = p.balls.expected_exit()) truth.exit_utime = p.utime_of(e->time_s);
+        truth.utime = p.utime_of(p.clock_s);
+        if (p.balls.finished_for_s(p.world.time_s()) > 1.0) finished = true;
+      }
+      const auto ball_px = renderer.render(ball, arm, image);
+      frame.utime = truth.utime;
+      frame.frame_index = p.frames;
+      frame.data.assign(image.data, image.data + image.total());
+      frame.size = static_cast<int32_t>(frame.data.size());
+      bus.publish(ephor::channels::kCamera, frame);
+      truth.frame_index = frame.frame_index;
+      if (ball_px) {
+        truth.ball_px[0] = ball_px->x();
+        truth.ball_px[1] = ball_px->y();
+      }
+      bus.publish(catching::channels::kTruth, truth);
+      if (frame.frame_index % static_cast<int64_t>(fps) == 0) {
+        survey.utime = wall_us();
+        bus.publish(catching::channels::kSurvey, survey);
+      }
+      ++p.frames;
+    });
+
+    runtime.start();
+    spdlog::info("running: seed {}, incline {:.1f} deg, {} pegs, {} balls, {} fps", seed,
+                 p.scenario.placement.incline_rad * 180.0 / M_PI, p.scenario.pegs.size(),
+                 balls == 0 ? std::string("endless") : std::to_string(balls), fps);
+    const auto t_end =
+        duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+    while (!finished && mono_ns() < t_end) {
+      if (wait_for_shutdown_signal(0.05) != 0) break;
+    }
+    runtime.stop();
+    std::lock_guard<std::mutex> lock(p.mutex);
+    spdlog::info(
+        "summary: {} balls judged, {} caught, {} oracle-reachable, {} frames, {} "
+        "trajectories ignored, {} physics skips",
+        p.balls.done(), p.balls.caught(), p.balls.oracle_reachable(), p.frames.load(),
+        p.trajectories_refused.load(), p.physics_skips.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

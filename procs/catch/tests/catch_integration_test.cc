@@ -1,0 +1,54 @@
+// The whole catching system (deploy/catch.pbtxt) started headless by the
+// launcher, as a user runs it, in a private network namespace; scored by
+// ephor-catch-monitor's summary against the simulator's ground truth.
+//
+// What every run must give: the camera's pose found from the circles, a
+// world-model output for every frame while tracking, the ball placed on the
+// board within a few mm, and balls caught. It does not assert every ball
+// caught: some are out of the arm's reach in the time they give
+// (oracle_reachable says how many could be); the catch rate over 500 balls
+// is a benchmark (tools/ephor bench catch), not a test.
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/harness.h"
+
+namespace ephor::testing {
+namespace {
+
+using std::chrono::seconds;
+
+TEST(Catch, HeadlessRunOfThreeBallsCatchesAndScoresThem) {
+  const std::string summary = write_temp_file("summary.json", "");
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {source_path("deploy/catch.pbtxt"), "--headless", "--duration", "60", "--balls", "3",
+           "--seed", "2", "--summary", summary});
+  ASSERT_TRUE(wait_until(
+      [&] {
+        for (const auto& e : p.exits())
+          if (e.name == "launch") return true;
+        return false;
+      },
+      seconds(90)));
+  ASSERT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
+
+  nlohmann::json s;
+  std::ifstream(summary) >> s;
+  std::fprintf(stderr, "summary: %s\n", s.dump().c_str());
+  EXPECT_EQ(s["scenario"], "catch");
+  EXPECT_EQ(s["balls"], 3) << "the run ended before three balls were judged";
+  EXPECT_GE(s["caught"].get<int>(), 1) << "no ball was caught";
+  ASSERT_FALSE(s["camera_pose_error_mm"].is_null()) << "no camera pose from the circles";
+  EXPECT_LT(s["camera_pose_error_mm"].get<double>(), 5.0);
+  EXPECT_LT(s["camera_pose_error_deg"].get<double>(), 0.5);
+  EXPECT_GT(s["world_outputs"].get<int>(), 100);
+  EXPECT_LT(s["update_ms"]["p50"].get<double>(), 17.5) << "not a world-model output per frame";
+  EXPECT_LT(s["position_error_mm"]["p50"].get<double>(), 5.0);
+}
+
+}  // namespace
+}  // namespace ephor::testing

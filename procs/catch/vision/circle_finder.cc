@@ -1,0 +1,260 @@
+#include "procs/catch/vision/circle_finder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "procs/catch/board/board_file.h"
+
+namespace ephor::catching {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double median(std::vector<double>& v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+std::string window_text(const cv::Rect& r) {
+  std::ostringstream s;
+  s << "(" << r.x << "," << r.y << ")-(" << r.x + r.width - 1 << "," << r.y + r.height - 1 << ")";
+  return s.str();
+}
+
+void check_frame(const cv::Mat& frame) {
+  if (frame.empty()) throw std::invalid_argument("CircleFinder: empty frame");
+  if (frame.type() != CV_8UC1)
+    throw std::invalid_argument("CircleFinder: needs an 8-bit grey frame (CV_8UC1)");
+}
+
+}  // namespace
+
+CircleFinder::CircleFinder(const BoardSpec& board, const CameraIntrinsics& camera,
+                           CircleFinderOptions options)
+    : board_(board), camera_(camera), options_(std::move(options)), pose_(board, camera) {}
+
+std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& frame) const {
+  // Local board brightness: a max filter wider than the largest circle, run
+  // at a quarter of the resolution (the board's shading is smooth).
+  constexpr int kShrink = 4;
+  cv::Mat small, small_max, board_level;
+  cv::resize(frame, small, cv::Size(std::max(1, frame.cols / kShrink), std::max(1, frame.rows / kShrink)),
+             0, 0, cv::INTER_AREA);
+  const int k = (static_cast<int>(options_.max_diameter_px / kShrink) + 3) | 1;
+  cv::dilate(small, small_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
+  cv::resize(small_max, board_level, frame.size(), 0, 0, cv::INTER_LINEAR);
+  cv::Mat threshold, dark;
+  board_level.convertTo(threshold, CV_8U, options_.dark_fraction);
+  cv::compare(frame, threshold, dark, cv::CMP_LT);
+  if (options_.windows) {
+    cv::Mat keep = cv::Mat::zeros(frame.size(), CV_8U);
+    for (const cv::Rect& w : *options_.windows) keep(w & cv::Rect(0, 0, frame.cols, frame.rows)) = 255;
+    dark &= keep;
+  }
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(dark, labels, stats, centroids, 8, CV_32S);
+
+  std::vector<Blob> blobs;
+  const double min_area = kPi / 4.0 * options_.min_diameter_px * options_.min_diameter_px;
+  const double max_area = kPi / 4.0 * options_.max_diameter_px * options_.max_diameter_px;
+  const cv::Rect image(0, 0, frame.cols, frame.rows);
+  for (int l = 1; l < n; ++l) {
+    const double area = stats.at<int>(l, cv::CC_STAT_AREA);
+    const cv::Rect box(stats.at<int>(l, cv::CC_STAT_LEFT), stats.at<int>(l, cv::CC_STAT_TOP),
+                       stats.at<int>(l, cv::CC_STAT_WIDTH), stats.at<int>(l, cv::CC_STAT_HEIGHT));
+    if (area < min_area || area > max_area) continue;
+    if (box.x == 0 || box.y == 0 || box.br().x >= frame.cols || box.br().y >= frame.rows) continue;
+    // Round: its second moments describe an ellipse of the blob's own area.
+    const cv::Mat component = labels(box) == l;
+    const cv::Moments m = cv::moments(component, true);
+    const double c20 = m.mu20 / m.m00, c02 = m.mu02 / m.m00, c11 = m.mu11 / m.m00;
+    const double det = c20 * c02 - c11 * c11;
+    if (!(det > 0.0)) continue;
+    const double half_trace = (c20 + c02) / 2.0;
+    const double root = std::sqrt(std::max(0.0, half_trace * half_trace - det));
+    const double axis_ratio = std::sqrt((half_trace - root) / (half_trace + root));
+    const double fill = area / (4.0 * kPi * std::sqrt(det));
+    if (axis_ratio < options_.min_axis_ratio || std::abs(fill - 1.0) > options_.max_fill_error)
+      continue;
+
+    // Sub-pixel centroid from grey-level weights around the component.
+    const cv::Rect roi = cv::Rect(box.x - 7, box.y - 7, box.width + 14, box.height + 14) & image;
+    const cv::Mat own = labels(roi) == l;
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3));
+    cv::Mat inner, support, outer;
+    cv::erode(own, inner, kernel, cv::Point(-1, -1), 2);
+    if (cv::countNonZero(inner) == 0) inner = own;
+    cv::dilate(own, support, kernel, cv::Point(-1, -1), 2);
+    cv::dilate(own, outer, kernel, cv::Point(-1, -1), 6);
+    const cv::Mat ring = outer & ~support & ~dark(roi);
+    std::vector<double> board_values, circle_values;
+    const cv::Mat pixels = frame(roi);
+    for (int y = 0; y < roi.height; ++y)
+      for (int x = 0; x < roi.width; ++x) {
+        const double g = pixels.at<uint8_t>(y, x);
+        if (ring.at<uint8_t>(y, x)) board_values.push_back(g);
+        if (inner.at<uint8_t>(y, x)) circle_values.push_back(g);
+      }
+    if (board_values.size() < 8) continue;
+    const double bright = median(board_values), dark_level = median(circle_values);
+    if (!(bright - dark_level > 1.0)) continue;
+    double s0 = 0.0, sx = 0.0, sy = 0.0;
+    for (int y = 0; y < roi.height; ++y)
+      for (int x = 0; x < roi.width; ++x) {
+        if (!support.at<uint8_t>(y, x)) continue;
+        const double w = (bright - pixels.at<uint8_t>(y, x)) / (bright - dark_level);
+        s0 += w;
+        sx += w * (roi.x + x);
+        sy += w * (roi.y + y);
+      }
+    if (!(s0 > 0.0)) continue;
+    blobs.push_back({Eigen::Vector2d(sx / s0, sy / s0), s0});
+  }
+  return blobs;
+}
+
+CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
+  CircleFinderResult out;
+  out.blobs_seen = static_cast<int>(blobs.size());
+  if (options_.windows) {
+    for (int i = 0; i < 4; ++i) {
+      const cv::Rect& w = (*options_.windows)[static_cast<size_t>(i)];
+      const Blob* best = nullptr;
+      for (const Blob& b : blobs)
+        if (w.contains(cv::Point2d(b.centroid.x(), b.centroid.y())) &&
+            (best == nullptr || b.area > best->area))
+          best = &b;
+      if (best == nullptr) {
+        out.problem = std::string("circle ") + circle_name(i) +
+                      " not found: looked in window " + window_text(w);
+        return out;
+      }
+      out.circles[static_cast<size_t>(i)].centroid_px = best->centroid;
+      out.circles[static_cast<size_t>(i)].area_px = best->area;
+    }
+    out.found = true;
+    out.runner_up_score = kInf;
+    return out;
+  }
+  if (blobs.size() < 4) {
+    out.problem = "found " + std::to_string(blobs.size()) + " dark round blob" +
+                  (blobs.size() == 1 ? "" : "s") + ", need 4";
+    return out;
+  }
+  // The largest eight at most: 70 sets of four, 24 labellings each.
+  std::vector<Blob> pool = blobs;
+  std::sort(pool.begin(), pool.end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
+  if (pool.size() > 8) pool.resize(8);
+  const int n = static_cast<int>(pool.size());
+  double best = kInf, runner_up = kInf;
+  std::array<int, 4> best_labelling{};
+  std::vector<bool> pick(static_cast<size_t>(n), false);
+  std::fill(pick.begin(), pick.begin() + 4, true);
+  do {
+    std::array<int, 4> chosen{};
+    for (int i = 0, j = 0; i < n; ++i)
+      if (pick[static_cast<size_t>(i)]) chosen[static_cast<size_t>(j++)] = i;
+    std::array<int, 4> perm = chosen;
+    std::sort(perm.begin(), perm.end());
+    do {
+      std::array<Eigen::Vector2d, 4> c;
+      for (size_t i = 0; i < 4; ++i) c[i] = pool[static_cast<size_t>(perm[i])].centroid;
+      const BoardPoseResult pose = pose_.estimate(c, {PnpMethod::kIppe, 0});
+      if (!pose.ok) continue;
+      double score = 0.0;
+      for (size_t i = 0; i < 4; ++i) {
+        const ProjectedCircle pc = pose_.project_circle(pose.board_to_camera, static_cast<int>(i));
+        if (!(pc.area_px > 0.0)) {
+          score = kInf;
+          break;
+        }
+        const double e = (pc.centroid_px - c[i]).norm() / options_.centroid_sigma_px;
+        const double a = std::log(pool[static_cast<size_t>(perm[i])].area / pc.area_px) /
+                         options_.area_sigma_log;
+        score += e * e + a * a;
+      }
+      if (score < best) {
+        runner_up = best;
+        best = score;
+        best_labelling = perm;
+      } else if (score < runner_up) {
+        runner_up = score;
+      }
+    } while (std::next_permutation(perm.begin(), perm.end()));
+  } while (std::prev_permutation(pick.begin(), pick.end()));
+
+  out.labelling_score = best;
+  out.runner_up_score = runner_up;
+  if (!std::isfinite(best)) {
+    out.problem = "found " + std::to_string(blobs.size()) +
+                  " dark round blobs but no labelling of four of them fits the board";
+    return out;
+  }
+  if (runner_up - best < options_.ambiguity_margin) {
+    std::ostringstream s;
+    s << "cannot tell the four circles apart: the best labelling scores " << best
+      << ", the next " << runner_up
+      << " (give windows of interest, or make one circle clearly larger)";
+    out.problem = s.str();
+    return out;
+  }
+  for (size_t i = 0; i < 4; ++i) {
+    out.circles[i].centroid_px = pool[static_cast<size_t>(best_labelling[i])].centroid;
+    out.circles[i].area_px = pool[static_cast<size_t>(best_labelling[i])].area;
+  }
+  out.found = true;
+  return out;
+}
+
+CircleFinderResult CircleFinder::find(const cv::Mat& frame) const {
+  check_frame(frame);
+  CircleFinderResult r = label(dark_round_blobs(frame));
+  r.frames_used = r.found ? 1 : 0;
+  return r;
+}
+
+CircleFinderResult CircleFinder::find(const std::vector<cv::Mat>& frames) const {
+  if (frames.empty()) throw std::invalid_argument("CircleFinder: no frames");
+  std::vector<CircleFinderResult> good;
+  CircleFinderResult first_failure;
+  bool failed = false;
+  for (const cv::Mat& f : frames) {
+    CircleFinderResult r = find(f);
+    if (r.found) {
+      good.push_back(std::move(r));
+    } else if (!failed) {
+      first_failure = std::move(r);
+      failed = true;
+    }
+  }
+  if (good.size() * 2 <= frames.size() && failed) {
+    first_failure.problem += " (in " + std::to_string(frames.size() - good.size()) + " of " +
+                             std::to_string(frames.size()) + " frames)";
+    return first_failure;
+  }
+  CircleFinderResult out = good.front();
+  out.frames_used = static_cast<int>(good.size());
+  const double n = static_cast<double>(good.size());
+  for (size_t i = 0; i < 4; ++i) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    double area = 0.0;
+    for (const auto& g : good) {
+      mean += g.circles[i].centroid_px / n;
+      area += g.circles[i].area_px / n;
+    }
+    double spread = 0.0;
+    for (const auto& g : good) spread += (g.circles[i].centroid_px - mean).squaredNorm() / n;
+    out.circles[i] = {mean, area, std::sqrt(spread)};
+  }
+  return out;
+}
+
+}  // namespace ephor::catching

@@ -1,0 +1,306 @@
+#include "procs/catch/vision/motion_centroid.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/background_segm.hpp>
+
+namespace ephor::catching {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+cv::Rect clip_window(const std::optional<cv::Rect>& window, const cv::Size& size) {
+  const cv::Rect image(0, 0, size.width, size.height);
+  return window ? (*window & image) : image;
+}
+
+void check(const cv::Mat& frame, const cv::Mat& previous) {
+  if (frame.empty() || frame.type() != CV_8UC1)
+    throw std::invalid_argument("motion: needs a non-empty 8-bit grey frame (CV_8UC1)");
+  if (!previous.empty() && previous.size() != frame.size())
+    throw std::invalid_argument("motion: frame size changed");
+}
+
+// Area of the lens where two discs of radius r, d apart, overlap.
+double lens_area(double d, double r) {
+  if (d >= 2.0 * r) return 0.0;
+  return 2.0 * r * r * std::acos(d / (2.0 * r)) - 0.5 * d * std::sqrt(4.0 * r * r - d * d);
+}
+
+struct Moments {
+  double n = 0.0, sx = 0.0, sy = 0.0;  // binary
+  double w = 0.0, wx = 0.0, wy = 0.0;  // weighted by |difference|
+  double sxx = 0.0, syy = 0.0, sxy = 0.0;  // binary, second (refine() only)
+  Eigen::Vector2d weighted() const { return {wx / w, wy / w}; }
+  // Minor / major axis of the binary part's moment ellipse (1: round).
+  double axis_ratio() const {
+    if (n < 3.0) return 0.0;
+    const double mx = sx / n, my = sy / n;
+    const double a = sxx / n - mx * mx, c = syy / n - my * my, b = sxy / n - mx * my;
+    const double h = 0.5 * (a + c), r = std::sqrt(std::max(0.0, 0.25 * (a - c) * (a - c) + b * b));
+    return h + r > 0.0 ? std::sqrt(std::max(0.0, h - r) / (h + r)) : 0.0;
+  }
+};
+
+// Moments of one sign of the difference (sign * d >= th) inside `box`.
+Moments part_moments(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& box, int sign, int th) {
+  Moments m;
+  for (int y = box.y; y < box.br().y; ++y) {
+    const uint8_t* a = cur.ptr<uint8_t>(y);
+    const uint8_t* b = old.ptr<uint8_t>(y);
+    for (int x = box.x; x < box.br().x; ++x) {
+      const int d = sign * (static_cast<int>(a[x]) - static_cast<int>(b[x]));
+      if (d < th) continue;
+      m.n += 1.0;
+      m.sx += x;
+      m.sy += y;
+      m.sxx += static_cast<double>(x) * x;
+      m.syy += static_cast<double>(y) * y;
+      m.sxy += static_cast<double>(x) * y;
+      m.w += d;
+      m.wx += static_cast<double>(d) * x;
+      m.wy += static_cast<double>(d) * y;
+    }
+  }
+  return m;
+}
+
+// Re-measures a part in a box around itself, twice, so stray noise pixels
+// elsewhere in the window do not pull it.
+Moments refine(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& roi, int sign, int th,
+               Moments m, double margin_px) {
+  for (int i = 0; i < 2 && m.w > 0.0; ++i) {
+    const Eigen::Vector2d c = m.weighted();
+    const double half = 2.0 * std::sqrt(m.n / kPi) + margin_px;
+    const cv::Rect box(static_cast<int>(std::floor(c.x() - half)),
+                       static_cast<int>(std::floor(c.y() - half)),
+                       static_cast<int>(std::ceil(2.0 * half)) + 1,
+                       static_cast<int>(std::ceil(2.0 * half)) + 1);
+    m = part_moments(cur, old, box & roi, sign, th);
+  }
+  return m;
+}
+
+}  // namespace
+
+double displacement_from_crescent_separation(double separation_px, double r) {
+  // The crescent of disc A minus disc B (centres d apart) has its centroid
+  // at (pi r^2 / (pi r^2 - lens)) d / 2 from the midpoint; the two crescents
+  // are symmetric, so their separation is f(d) = d pi r^2 / (pi r^2 - lens),
+  // increasing from pi r / 2 at d -> 0 to d itself once d >= 2 r.
+  if (!(r > 0.0)) return separation_px;
+  if (separation_px >= 2.0 * r) return separation_px;
+  const double disc = kPi * r * r;
+  auto f = [&](double d) { return d * disc / (disc - lens_area(d, r)); };
+  double lo = 0.0, hi = 2.0 * r;
+  if (separation_px <= f(1e-9 * r)) return 0.0;
+  for (int i = 0; i < 50; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) < separation_px ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+MotionCentroid::MotionCentroid(MotionCentroidOptions options) : options_(options) {
+  if (options_.frame_gap < 1) throw std::invalid_argument("MotionCentroid: frame_gap must be >= 1");
+  reset();
+}
+
+void MotionCentroid::reset() {
+  ring_.assign(static_cast<size_t>(options_.frame_gap + 1), Frame{});
+  frames_ = 0;
+  sign_votes_ = 0;
+  last_midpoint_.reset();
+  learnt_radius_px_ = 0.0;
+}
+
+void MotionCentroid::smooth(Frame& f, const cv::Rect& roi) const {
+  if ((f.smoothed_rect & roi) == roi) return;  // already smoothed there
+  if (f.smoothed.size() != f.raw.size()) f.smoothed.create(f.raw.size(), CV_8U);
+  // A ROI of the whole frame: the filter reads real pixels across the ROI's
+  // border, so windowed and full-frame results agree.
+  cv::Mat dst = f.smoothed(roi);
+  cv::GaussianBlur(f.raw(roi), dst, cv::Size(0, 0), options_.smoothing_sigma_px);
+  f.smoothed_rect = roi;
+}
+
+MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
+                                          const std::optional<cv::Rect>& window) {
+  const auto t0 = Clock::now();
+  const size_t slots = ring_.size();
+  Frame& cur = ring_[static_cast<size_t>(frames_) % slots];
+  check(frame, ring_[static_cast<size_t>(frames_ + static_cast<long>(slots) - 1) % slots].raw);
+  frame.copyTo(cur.raw);
+  cur.smoothed_rect = cv::Rect();
+  ++frames_;
+  MotionMeasurement out;
+  out.contrast_sign = options_.contrast_sign != 0 ? options_.contrast_sign : learnt_sign();
+  if (frames_ < static_cast<long>(slots)) {
+    out.elapsed_ms = ms_since(t0);
+    return out;
+  }
+  Frame& old = ring_[static_cast<size_t>(frames_) % slots];  // frame n - gap
+  const cv::Rect roi = clip_window(window, frame.size());
+  if (roi.area() == 0) {
+    out.elapsed_ms = ms_since(t0);
+    return out;
+  }
+  smooth(cur, roi);
+  smooth(old, roi);
+
+  // One pass: the paper's binary moments of |d| > threshold, and weighted
+  // moments of the positive and negative parts separately.
+  Moments pos, neg;
+  const int th = static_cast<int>(std::ceil(options_.threshold));
+  for (int y = roi.y; y < roi.br().y; ++y) {
+    const uint8_t* a = cur.smoothed.ptr<uint8_t>(y);
+    const uint8_t* b = old.smoothed.ptr<uint8_t>(y);
+    double row_pn = 0.0, row_psx = 0.0, row_pw = 0.0, row_pwx = 0.0;
+    double row_nn = 0.0, row_nsx = 0.0, row_nw = 0.0, row_nwx = 0.0;
+    for (int x = roi.x; x < roi.br().x; ++x) {
+      const int d = static_cast<int>(a[x]) - static_cast<int>(b[x]);
+      if (d >= th) {
+        row_pn += 1.0;
+        row_psx += x;
+        row_pw += d;
+        row_pwx += static_cast<double>(d) * x;
+      } else if (d <= -th) {
+        row_nn += 1.0;
+        row_nsx += x;
+        row_nw -= d;
+        row_nwx -= static_cast<double>(d) * x;
+      }
+    }
+    pos.n += row_pn;
+    pos.sx += row_psx;
+    pos.sy += row_pn * y;
+    pos.w += row_pw;
+    pos.wx += row_pwx;
+    pos.wy += row_pw * y;
+    neg.n += row_nn;
+    neg.sx += row_nsx;
+    neg.sy += row_nn * y;
+    neg.w += row_nw;
+    neg.wx += row_nwx;
+    neg.wy += row_nw * y;
+  }
+  out.area_px = pos.n + neg.n;
+  const double margin = 2.0 + 2.0 * options_.smoothing_sigma_px;
+  if (pos.n > 0.0) pos = refine(cur.smoothed, old.smoothed, roi, 1, th, pos, margin);
+  if (neg.n > 0.0) neg = refine(cur.smoothed, old.smoothed, roi, -1, th, neg, margin);
+  if (out.area_px < options_.min_area_px || pos.n + neg.n < options_.min_area_px) {
+    last_midpoint_.reset();
+    out.elapsed_ms = ms_since(t0);
+    return out;
+  }
+  out.found = true;
+  out.plain_centroid_px = {(pos.sx + neg.sx) / out.area_px, (pos.sy + neg.sy) / out.area_px};
+  out.centroid_px = out.plain_centroid_px;
+
+  const double min_part = std::max(1.0, options_.min_area_px / 4.0);
+  if (pos.n < min_part || neg.n < min_part) {
+    // Only one part: the ball appeared or left (or only its old or new
+    // place is inside the window). Take it if the sign says it is "now".
+    last_midpoint_.reset();
+    const int sign = out.contrast_sign;
+    if (sign > 0 && pos.n >= min_part) {
+      out.centroid_px = pos.weighted();
+      out.ball_centre = true;
+    } else if (sign < 0 && neg.n >= min_part) {
+      out.centroid_px = neg.weighted();
+      out.ball_centre = true;
+    }
+    out.elapsed_ms = ms_since(t0);
+    return out;
+  }
+  const Eigen::Vector2d c_pos = pos.weighted(), c_neg = neg.weighted();
+  const Eigen::Vector2d mid = 0.5 * (c_pos + c_neg);
+  // Learn the contrast sign: the part where the ball is now lies ahead of
+  // the midpoint along the motion of the midpoints.
+  if (options_.contrast_sign == 0 && last_midpoint_) {
+    const Eigen::Vector2d motion = mid - *last_midpoint_;
+    const Eigen::Vector2d pos_ahead = c_pos - c_neg;
+    if (motion.norm() > 0.3 && pos_ahead.norm() > 1.0) {
+      const double cosine = motion.dot(pos_ahead) / (motion.norm() * pos_ahead.norm());
+      if (cosine > 0.5) sign_votes_ = std::min(sign_votes_ + 1, 100);
+      if (cosine < -0.5) sign_votes_ = std::max(sign_votes_ - 1, -100);
+    }
+  }
+  last_midpoint_ = mid;
+  const int sign = options_.contrast_sign != 0 ? options_.contrast_sign : learnt_sign();
+  out.contrast_sign = sign;
+  if (sign == 0) {
+    out.elapsed_ms = ms_since(t0);
+    return out;
+  }
+  const Moments& now = sign > 0 ? pos : neg;
+  const Eigen::Vector2d c_now = sign > 0 ? c_pos : c_neg, c_old = sign > 0 ? c_neg : c_pos;
+  const double separation = (c_now - c_old).norm();
+  // The two positions are apart when the crescents are farther apart than a
+  // disc of the "now" part's area is wide: then the "now" part is the disc.
+  const double now_radius = std::sqrt(now.n / kPi);
+  const bool apart = separation > 2.0 * now_radius + 2.0 * options_.smoothing_sigma_px &&
+                     now.axis_ratio() > 0.75;
+  if (apart) {
+    learnt_radius_px_ = learnt_radius_px_ > 0.0 ? 0.8 * learnt_radius_px_ + 0.2 * now_radius
+                                                : now_radius;
+  }
+  const double radius = options_.ball_radius_px > 0.0 ? options_.ball_radius_px : learnt_radius_px_;
+  out.ball_centre = true;
+  if (apart || !options_.correct_crescent || !(radius > 0.0) || separation < 1e-9) {
+    out.centroid_px = c_now;
+  } else {
+    const double d = displacement_from_crescent_separation(separation, radius);
+    out.centroid_px = mid + (c_now - c_old) * (0.5 * d / separation);
+  }
+  out.elapsed_ms = ms_since(t0);
+  return out;
+}
+
+struct Mog2Centroid::Impl {
+  cv::Ptr<cv::BackgroundSubtractorMOG2> mog;
+  cv::Mat smoothed, mask;
+};
+
+Mog2Centroid::Mog2Centroid(Mog2CentroidOptions options)
+    : options_(options), impl_(std::make_unique<Impl>()) {
+  reset();
+}
+
+Mog2Centroid::~Mog2Centroid() = default;
+
+void Mog2Centroid::reset() {
+  impl_->mog = cv::createBackgroundSubtractorMOG2(options_.history, options_.var_threshold, false);
+}
+
+MotionMeasurement Mog2Centroid::process(const cv::Mat& frame,
+                                        const std::optional<cv::Rect>& window) {
+  const auto t0 = Clock::now();
+  check(frame, impl_->smoothed);
+  cv::GaussianBlur(frame, impl_->smoothed, cv::Size(0, 0), options_.smoothing_sigma_px);
+  impl_->mog->apply(impl_->smoothed, impl_->mask);
+  MotionMeasurement out;
+  const cv::Rect roi = clip_window(window, frame.size());
+  const cv::Moments m = cv::moments(impl_->mask(roi), true);
+  out.area_px = m.m00;
+  if (m.m00 >= options_.min_area_px) {
+    out.found = true;
+    out.centroid_px = {roi.x + m.m10 / m.m00, roi.y + m.m01 / m.m00};
+    out.plain_centroid_px = out.centroid_px;
+    out.ball_centre = true;
+  }
+  out.elapsed_ms = ms_since(t0);
+  return out;
+}
+
+}  // namespace ephor::catching

@@ -1,0 +1,154 @@
+#include "procs/catch/vision/motion_centroid.h"
+
+#include <cmath>
+#include <iostream>
+
+#include <gtest/gtest.h>
+
+#include "procs/catch/vision/test_scenes.h"
+
+namespace ephor::catching {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A ball rolling straight down the slope of a board seen at 1.5 m, 25 deg
+// off its normal; `step_mm` per 1/60 s frame.
+struct RollingBall {
+  SyntheticScene scene = testing::board_scene(1500.0, 25.0);
+  double x_mm = 230.0, y0_mm = 250.0, step_mm = 10.0;
+  Eigen::Vector2d where_mm(int k) const { return {x_mm + 0.3 * step_mm * k, y0_mm + step_mm * k}; }
+  Eigen::Vector2d true_px(int k) const {
+    const Eigen::Vector2d p = where_mm(k);
+    return project_pinhole(scene.camera, scene.board_to_camera,
+                           Eigen::Vector3d(p.x(), p.y(), scene.board.ball_radius_mm()));
+  }
+  cv::Mat frame(int k, double contrast, uint64_t seed) const {
+    SyntheticScene s = scene;
+    s.ball = SyntheticBall{where_mm(k), contrast};
+    return render_board(s, 2.0, seed);
+  }
+};
+
+TEST(CrescentTest, DisplacementFromSeparationInvertsTheCrescentModel) {
+  EXPECT_NEAR(displacement_from_crescent_separation(25.0, 8.0), 25.0, 1e-12);
+  // Small displacement: two thin crescents pi r / 4 either side.
+  EXPECT_NEAR(displacement_from_crescent_separation(kPi * 8.0 / 2.0 + 1e-6, 8.0), 0.0, 0.05);
+  const double d = displacement_from_crescent_separation(14.0, 8.0);
+  EXPECT_GT(d, 0.0);
+  EXPECT_LT(d, 14.0);
+}
+
+struct Case {
+  double contrast;
+  double step_mm;  // per 1/60 s; 1/30 s moves twice this
+};
+
+class MovingBallTest : public ::testing::TestWithParam<Case> {};
+
+TEST_P(MovingBallTest, FindsTheBallsCentreAndThePlainCentroidLags) {
+  const Case c = GetParam();
+  RollingBall ball;
+  ball.step_mm = c.step_mm;
+  // At the top of the board the ball's two positions overlap in every
+  // frame, so its radius cannot be learnt: give it, as the world model would
+  // (f R / Z).
+  MotionCentroidOptions options;
+  const Eigen::Vector3d centre_c =
+      ball.scene.board_to_camera *
+      Eigen::Vector3d(ball.x_mm, ball.y0_mm + 7 * c.step_mm, ball.scene.board.ball_radius_mm());
+  if (2.0 * c.step_mm < ball.scene.board.ball_diameter_mm)
+    options.ball_radius_px = ball.scene.camera.fx * ball.scene.board.ball_radius_mm() / centre_c.z();
+  MotionCentroid motion(options);
+  double worst = 0.0, worst_uncorrected = 0.0, plain_lag = 0.0, half_disp = 0.0;
+  int measured = 0;
+  MotionCentroidOptions uncorrected_options;
+  uncorrected_options.correct_crescent = false;
+  MotionCentroid uncorrected(uncorrected_options);
+  // Known ball radius for the uncorrected one so only the correction differs.
+  for (int k = 0; k < 14; ++k) {
+    const cv::Mat f = ball.frame(k, c.contrast, 1000 + static_cast<uint64_t>(k));
+    const MotionMeasurement m = motion.process(f);
+    const MotionMeasurement u = uncorrected.process(f);
+    if (k < 2) {
+      EXPECT_FALSE(m.found);
+      continue;
+    }
+    ASSERT_TRUE(m.found) << "frame " << k;
+    if (!m.ball_centre) continue;  // the contrast sign is still being learnt
+    EXPECT_EQ(m.contrast_sign, c.contrast > 0 ? 1 : -1);
+    ++measured;
+    const Eigen::Vector2d truth = ball.true_px(k);
+    worst = std::max(worst, (m.centroid_px - truth).norm());
+    if (u.ball_centre) worst_uncorrected = std::max(worst_uncorrected, (u.centroid_px - truth).norm());
+    plain_lag += (m.plain_centroid_px - truth).norm();
+    half_disp += 0.5 * (truth - ball.true_px(k - 2)).norm();
+  }
+  ASSERT_GE(measured, 6) << "the contrast sign was not learnt";
+  plain_lag /= measured;
+  half_disp /= measured;
+  std::cout << "contrast " << c.contrast << ", " << 2 * c.step_mm << " mm per 1/30 s ("
+            << 2 * half_disp << " px): ball-centre error " << worst << " px (crescent centroid "
+            << worst_uncorrected << " px), plain centroid lag " << plain_lag
+            << " px, half the displacement " << half_disp << " px, learnt radius "
+            << motion.learnt_radius_px() << " px\n";
+  EXPECT_LT(worst, 0.5);
+  EXPECT_NEAR(plain_lag, half_disp, 0.2 * half_disp + 0.3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Contrasts, MovingBallTest,
+                         ::testing::Values(Case{5.0, 37.5}, Case{-5.0, 37.5}, Case{5.0, 30.0},
+                                           Case{-5.0, 45.0}, Case{5.0, 10.0}, Case{-5.0, 10.0}));
+
+TEST(MotionCentroidTest, NoBallMeansNotFound) {
+  RollingBall ball;
+  MotionCentroid motion;
+  for (int k = 0; k < 12; ++k) {
+    const MotionMeasurement m = motion.process(render_board(ball.scene, 2.0, 500 + static_cast<uint64_t>(k)));
+    EXPECT_FALSE(m.found) << "frame " << k << " area " << m.area_px;
+  }
+}
+
+TEST(MotionCentroidTest, WindowRestrictsDetection) {
+  RollingBall ball;
+  ball.step_mm = 37.5;
+  MotionCentroidOptions o;
+  o.contrast_sign = 1;
+  MotionCentroid inside(o), outside(o), full(o);
+  for (int k = 0; k < 6; ++k) {
+    const cv::Mat f = ball.frame(k, 5.0, 40 + static_cast<uint64_t>(k));
+    const Eigen::Vector2d t = ball.true_px(k);
+    const cv::Rect around(static_cast<int>(t.x()) - 40, static_cast<int>(t.y()) - 40, 80, 80);
+    const cv::Rect elsewhere(20, 20, 80, 80);
+    const MotionMeasurement a = inside.process(f, around);
+    const MotionMeasurement b = outside.process(f, elsewhere);
+    const MotionMeasurement c = full.process(f);
+    if (k < 2) continue;
+    ASSERT_TRUE(a.found);
+    EXPECT_FALSE(b.found);
+    ASSERT_TRUE(c.found);
+    EXPECT_LT((a.centroid_px - t).norm(), 0.5);
+  }
+}
+
+TEST(Mog2CentroidTest, FindsTheMovingBall) {
+  RollingBall ball;
+  ball.step_mm = 37.5;
+  Mog2Centroid mog;
+  // Learn the empty board first.
+  for (int k = 0; k < 30; ++k) mog.process(render_board(ball.scene, 2.0, 900 + static_cast<uint64_t>(k)));
+  double worst = 0.0;
+  int found = 0;
+  for (int k = 0; k < 6; ++k) {
+    const MotionMeasurement m = mog.process(ball.frame(k, 5.0, 60 + static_cast<uint64_t>(k)));
+    if (!m.found) continue;
+    ++found;
+    worst = std::max(worst, (m.centroid_px - ball.true_px(k)).norm());
+  }
+  std::cout << "MOG2: found in " << found << " of 6 frames, worst error " << worst << " px\n";
+  EXPECT_GE(found, 5);
+  EXPECT_LT(worst, 1.5);
+}
+
+}  // namespace
+}  // namespace ephor::catching

@@ -1,0 +1,286 @@
+// ephor-sim: the simulated work cell in real time - sheep on the field, the
+// PUMA 560's servo layer and the overhead camera (procs/shepherd/sim/simulator.h).
+//
+//   ephor-sim --sheep 4 --seed 1 --fps 30
+//
+// Tasks (scheduled by ephor-scheduler through the TaskRuntime):
+//   physics  every 4 ms: advances the simulation to the monotonic clock
+//   camera   every 1/fps: renders CAMERA (camera_frame_t) and GROUND_TRUTH
+//            (shepherd_ground_truth_t, same utime and frame_index)
+//   servo    every 4 ms: applies the newest ARM_TRAJECTORY, publishes
+//            ARM_SERVO (joint_state_t) at 250 Hz
+// Subscribes ARM_TRAJECTORY (joint_trajectory_t; malformed ones are logged,
+// counted and ignored), SIM_CMD (shepherd_sim_cmd_t: herd size; reset with a seed
+// on the rising edge of `reset` or a new seed while it is set) and
+// SIM_TOOL_LIGHT (shepherd_tool_light_t: the calibration light on the tool tip, drawn
+// in every frame while on; used by ephor-calibrate).
+//
+// Time: simulated time runs with CLOCK_MONOTONIC from start-up; a message's
+// utime is the wall clock at start plus the simulated time of the state it
+// carries, so a frame's utime is its capture time.
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "common/arm/servo_messages.h"
+#include "ephor/camera_frame_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
+#include "ephor/joint_state_t.hpp"
+#include "ephor/joint_trajectory_t.hpp"
+#include "ephor/shepherd_sim_cmd_t.hpp"
+#include "ephor/shepherd_tool_light_t.hpp"
+#include "procs/shepherd/sim/sim_config.h"
+#include "procs/shepherd/sim/simulator.h"
+
+namespace {
+
+using ephor::sim::JointTrajectory;
+using ephor::sim::to_trajectory;
+
+// 1 ms steps: the camera renders the world at most 1 ms older than its
+// capture time stamp (4 ms steps made frames up to 4 ms stale).
+constexpr double kPhysicsStepS = 0.001;
+constexpr double kMaxLagS = 0.5;  // beyond this the simulation skips ahead instead of catching up
+
+ephor::shepherd_ground_truth_t to_message(const ephor::sim::GroundTruth& gt, int64_t utime,
+                                 int64_t frame_index) {
+  ephor::shepherd_ground_truth_t m;
+  m.utime = utime;
+  m.frame_index = frame_index;
+  m.escapes = gt.escapes;
+  m.saves = gt.saves;
+  m.sim_time_s = gt.time_s;
+  for (const auto& s : gt.sheep) {
+    ephor::shepherd_sheep_truth_t t;
+    t.id = s.state.id;
+    t.x_mm = static_cast<float>(s.state.centre_mm.x());
+    t.y_mm = static_cast<float>(s.state.centre_mm.y());
+    t.heading_rad = static_cast<float>(s.state.heading_rad());
+    t.speed_mm_s = static_cast<float>(s.state.speed_mm_s());
+    t.u = static_cast<float>(s.view.centre_px.x());
+    t.v = static_cast<float>(s.view.centre_px.y());
+    t.visible = s.view.visible;
+    t.on_field = s.state.on_field;
+    m.sheep.push_back(t);
+  }
+  m.num_sheep = static_cast<int32_t>(m.sheep.size());
+  return m;
+}
+
+void write_pgm(const std::string& path, const std::vector<uint8_t>& img, int w, int h) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n" << w << " " << h << "\n255\n";
+  out.write(reinterpret_cast<const char*>(img.data()), static_cast<std::streamsize>(img.size()));
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// Everything the three tasks and the bus callbacks share, behind one mutex.
+struct SimProcess {
+  std::mutex mutex;
+  ephor::sim::Simulator sim;
+  double clock_s = 0.0;  // simulated time since start-up (not reset by SIM_CMD), s
+  int64_t wall0_us = 0;
+  int64_t mono0_ns = 0;
+  std::optional<JointTrajectory> pending;  // newest valid trajectory not yet applied
+  // SIM_CMD edge detection.
+  bool last_reset = false;
+  int32_t last_seed = 0;
+  int32_t last_sheep = -1;
+  // Counters (bus thread writes, exit summary reads).
+  std::atomic<int64_t> trajectories_received{0}, trajectories_refused{0}, commands_refused{0},
+      physics_skips{0}, frames{0};
+
+  explicit SimProcess(ephor::sim::SimulatorConfig c) : sim(std::move(c)) {}
+  int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ephor::block_shutdown_signals();
+  CLI::App app{"ephor-sim: simulated field, sheep, PUMA 560 servo layer and overhead camera"};
+  ephor::ProcessArgs args;
+  ephor::add_process_flags(app, args, "sim");
+  int sheep = 4;
+  uint64_t seed = 1;
+  double fps = 30.0, speed = 30.0, noise = 2.5, reentry = 5.0, duration_s = 0.0;
+  std::string config_path, pgm_path;
+  app.add_option("--sheep", sheep, "sheep on the field (default 4)")->check(CLI::Range(0, 64));
+  app.add_option("--seed", seed, "random seed of the world and camera noise (default 1)");
+  app.add_option("--fps", fps, "camera frames per second (default 30)")
+      ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--speed-mm-s", speed, "nominal sheep speed, mm/s (default 30)")
+      ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--noise", noise, "camera pixel noise sigma, grey levels (default 2.5)")
+      ->check(CLI::Range(0.0, 50.0));
+  app.add_option("--reentry-s", reentry, "delay before an escaped sheep re-enters, s; < 0 = never");
+  app.add_option("--config", config_path,
+                 "text config (procs/shepherd/sim/sim_config.proto); flags override it");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  app.add_option("--write-pgm", pgm_path, "render the first frame to this PGM file and exit");
+  CLI11_PARSE(app, argc, argv);
+  ephor::init_logging(args.name);
+
+  try {
+    ephor::sim::SimulatorConfig config;
+    config.camera.noise_sigma = noise;
+    if (!config_path.empty()) ephor::sim::apply_config_file(config_path, config, fps);
+    if (app.count("--sheep") || config_path.empty()) config.world.sheep = sheep;
+    if (app.count("--seed") || config_path.empty()) config.world.seed = seed;
+    if (app.count("--speed-mm-s") || config_path.empty()) config.world.speed_mm_s = speed;
+    if (app.count("--noise") || config_path.empty()) config.camera.noise_sigma = noise;
+    if (app.count("--reentry-s") || config_path.empty()) config.world.reentry_s = reentry;
+    if (!std::isfinite(config.world.reentry_s))
+      throw std::invalid_argument("--reentry-s must be finite");
+    config.camera.seed = config.world.seed;
+
+    SimProcess p(config);
+    ephor::sim::CameraRenderer camera(config.camera, config.world);  // the camera task's own
+    if (!pgm_path.empty()) {
+      std::vector<uint8_t> img;
+      ephor::sim::Simulator::render(p.sim.scene(), camera, img);
+      write_pgm(pgm_path, img, camera.width(), camera.height());
+      spdlog::info("wrote {}", pgm_path);
+      return 0;
+    }
+
+    // Declared before the runtime so that they outlive its task threads.
+    ephor::camera_frame_t frame;
+    frame.width = camera.width();
+    frame.height = camera.height();
+    ephor::Bus bus(args.lcm_url, args.name);
+    ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+
+    bus.subscribe<ephor::joint_trajectory_t>(
+        ephor::channels::kArmTrajectory, [&p](const ephor::joint_trajectory_t& m) {
+          ++p.trajectories_received;
+          std::string why;
+          auto t = to_trajectory(m, why);
+          if (!t) {
+            ++p.trajectories_refused;
+            spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
+                         p.trajectories_refused.load());
+            return;
+          }
+          std::lock_guard<std::mutex> lock(p.mutex);
+          p.pending = std::move(*t);
+        });
+    bus.subscribe<ephor::shepherd_sim_cmd_t>(ephor::channels::kSimCmd, [&p](const ephor::shepherd_sim_cmd_t& m) {
+      if (m.sheep < 0 || m.sheep > 64) {
+        ++p.commands_refused;
+        spdlog::warn("SIM_CMD ignored: sheep {} outside [0, 64]", m.sheep);
+        return;
+      }
+      std::lock_guard<std::mutex> lock(p.mutex);
+      const bool reset = m.reset && (!p.last_reset || m.seed != p.last_seed);
+      p.last_reset = m.reset;
+      p.last_seed = m.seed;
+      if (reset) {
+        p.sim.reset(static_cast<uint64_t>(m.seed));
+        p.last_sheep = -1;
+        spdlog::info("world reset with seed {}", m.seed);
+      }
+      if (m.sheep != p.last_sheep) {
+        p.sim.world().set_sheep_count(m.sheep);
+        p.last_sheep = m.sheep;
+      }
+    });
+
+    bus.subscribe<ephor::shepherd_tool_light_t>(ephor::channels::kSimToolLight,
+                                       [&p](const ephor::shepherd_tool_light_t& m) {
+                                         std::lock_guard<std::mutex> lock(p.mutex);
+                                         if (p.sim.tool_light() != m.on)
+                                           spdlog::info("tool light {}", m.on ? "on" : "off");
+                                         p.sim.set_tool_light(m.on);
+                                       });
+
+    p.wall0_us = ephor::wall_us();
+    p.mono0_ns = ephor::mono_ns();
+
+    // Steps the world up to the present (caller holds p.mutex).
+    auto advance_to_now = [&p] {
+      const double now_s = static_cast<double>(ephor::mono_ns() - p.mono0_ns) * 1e-9;
+      if (now_s - p.clock_s > kMaxLagS) {
+        // Starved (debugger, overload): skip ahead rather than run a burst.
+        ++p.physics_skips;
+        spdlog::warn("physics {:.3f} s behind the clock; skipping ahead", now_s - p.clock_s);
+        p.clock_s = now_s - kPhysicsStepS;
+      }
+      while (p.clock_s + kPhysicsStepS <= now_s) {
+        p.sim.step(kPhysicsStepS);
+        p.clock_s += kPhysicsStepS;
+      }
+    };
+    runtime.add_periodic("physics", std::chrono::milliseconds(4), [&p, &advance_to_now] {
+      std::lock_guard<std::mutex> lock(p.mutex);
+      advance_to_now();
+    });
+
+    runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)),
+                         [&p, &bus, &camera, &frame, &advance_to_now] {
+                           ephor::sim::Scene scene;
+                           int64_t utime = 0;
+                           {
+                             std::lock_guard<std::mutex> lock(p.mutex);
+                             // Expose the world as it is now, not as of the
+                             // last physics job (up to 4 ms old).
+                             advance_to_now();
+                             scene = p.sim.scene();
+                             utime = p.utime_of(p.clock_s);
+                           }
+                           const auto gt = ephor::sim::Simulator::render(scene, camera, frame.data);
+                           frame.utime = utime;
+                           frame.frame_index = p.frames;
+                           frame.size = static_cast<int32_t>(frame.data.size());
+                           bus.publish(ephor::channels::kCamera, frame);
+                           auto truth = to_message(gt, utime, frame.frame_index);
+                           bus.publish(ephor::channels::kGroundTruth, truth);
+                           ++p.frames;
+                         });
+
+    runtime.add_periodic("servo", std::chrono::milliseconds(4), [&p, &bus] {
+      ephor::joint_state_t m;
+      {
+        std::lock_guard<std::mutex> lock(p.mutex);
+        if (p.pending) {
+          p.sim.follow(*p.pending);
+          p.pending.reset();
+        }
+        m = ephor::sim::to_joint_state(p.sim.servo(), p.utime_of(p.clock_s));
+      }
+      bus.publish(ephor::channels::kArmServo, m);
+    });
+
+    runtime.start();
+    spdlog::info("running: {} sheep, seed {}, {} fps, sheep speed {} mm/s", config.world.sheep,
+                 config.world.seed, fps, config.world.speed_mm_s);
+    ephor::wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    std::lock_guard<std::mutex> lock(p.mutex);
+    spdlog::info(
+        "summary: escapes {} saves {} over {:.1f} s sim time, {} sheep on the field, {} frames, "
+        "{} trajectories ({} ignored), {} commands ignored, {} physics skips",
+        p.sim.world().escapes(), p.sim.world().saves(), p.sim.world().time_s(),
+        p.sim.world().sheep().size(), p.frames.load(), p.trajectories_received.load(),
+        p.trajectories_refused.load(), p.commands_refused.load(), p.physics_skips.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
