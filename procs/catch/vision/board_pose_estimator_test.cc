@@ -4,8 +4,8 @@
 #include <iostream>
 #include <random>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "procs/catch/vision/circle_finder.h"
 #include "procs/catch/vision/test_scenes.h"
@@ -32,8 +32,7 @@ TEST(BoardPoseEstimatorTest, IppeRoundTripRecoversAKnownPose) {
   const SyntheticScene s = testing::board_scene(1500.0, 35.0, 20.0, 10.0);
   const BoardPoseEstimator est(s.board, s.camera);
   for (PnpMethod method : {PnpMethod::kIppe, PnpMethod::kIterative}) {
-    const BoardPoseResult r =
-        est.estimate(projected_centres(est, s.board_to_camera), {method, 0});
+    const BoardPoseResult r = est.estimate(projected_centres(est, s.board_to_camera), {method, 0});
     ASSERT_TRUE(r.ok) << r.problem;
     EXPECT_LT(distance_mm(r.board_to_camera, s.board_to_camera), 1e-6);
     EXPECT_LT(angle_deg(r.board_to_camera, s.board_to_camera) * kPi / 180.0, 1e-6);
@@ -71,8 +70,7 @@ TEST(BoardPoseEstimatorTest, BothIppeSolutionsAreExaminedNearFrontoParallel) {
   EXPECT_LT(angle_deg(r.board_to_camera, s.board_to_camera), 0.5);
   EXPECT_LT(distance_mm(r.board_to_camera, s.board_to_camera), 5.0);
   std::cout << "near fronto-parallel: IPPE RMS " << r.ippe_rms_px[0] << " / " << r.ippe_rms_px[1]
-            << " px, kept solution " << r.ippe_solution << ", ratio " << r.ippe_error_ratio
-            << "\n";
+            << " px, kept solution " << r.ippe_solution << ", ratio " << r.ippe_error_ratio << "\n";
 }
 
 TEST(BoardPoseEstimatorTest, PerspectiveBiasIsMeasurableAndRemoved) {
@@ -95,14 +93,15 @@ TEST(BoardPoseEstimatorTest, PerspectiveBiasIsMeasurableAndRemoved) {
     ASSERT_TRUE(raw.ok && fixed.ok);
     const double raw_mm = distance_mm(raw.board_to_camera, s.board_to_camera);
     const double fixed_mm = distance_mm(fixed.board_to_camera, s.board_to_camera);
-    std::cout << (method == PnpMethod::kIppe ? "IPPE" : "iterative") << ": pose error "
-              << raw_mm << " mm " << angle_deg(raw.board_to_camera, s.board_to_camera)
-              << " deg uncorrected, " << fixed_mm << " mm "
-              << angle_deg(fixed.board_to_camera, s.board_to_camera) << " deg corrected\n";
+    std::cout << (method == PnpMethod::kIppe ? "IPPE" : "iterative") << ": pose error " << raw_mm
+              << " mm " << angle_deg(raw.board_to_camera, s.board_to_camera) << " deg uncorrected, "
+              << fixed_mm << " mm " << angle_deg(fixed.board_to_camera, s.board_to_camera)
+              << " deg corrected\n";
     EXPECT_LT(fixed_mm, 0.01);
     EXPECT_LT(angle_deg(fixed.board_to_camera, s.board_to_camera), 0.001);
     EXPECT_GT(raw_mm, 10.0 * fixed_mm);
-    EXPECT_NEAR(fixed.bias_px[0].norm(), (centroids[0] - est.project_circle(s.board_to_camera, 0).centre_px).norm(), 1e-3);
+    EXPECT_NEAR(fixed.bias_px[0].norm(),
+                (centroids[0] - est.project_circle(s.board_to_camera, 0).centre_px).norm(), 1e-3);
   }
 }
 

@@ -46,8 +46,9 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
   // at a quarter of the resolution (the board's shading is smooth).
   constexpr int kShrink = 4;
   cv::Mat small, small_max, board_level;
-  cv::resize(frame, small, cv::Size(std::max(1, frame.cols / kShrink), std::max(1, frame.rows / kShrink)),
-             0, 0, cv::INTER_AREA);
+  cv::resize(frame, small,
+             cv::Size(std::max(1, frame.cols / kShrink), std::max(1, frame.rows / kShrink)), 0, 0,
+             cv::INTER_AREA);
   const int k = (static_cast<int>(options_.max_diameter_px / kShrink) + 3) | 1;
   cv::dilate(small, small_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(k, k)));
   cv::resize(small_max, board_level, frame.size(), 0, 0, cv::INTER_LINEAR);
@@ -56,7 +57,8 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
   cv::compare(frame, threshold, dark, cv::CMP_LT);
   if (options_.windows) {
     cv::Mat keep = cv::Mat::zeros(frame.size(), CV_8U);
-    for (const cv::Rect& w : *options_.windows) keep(w & cv::Rect(0, 0, frame.cols, frame.rows)) = 255;
+    for (const cv::Rect& w : *options_.windows)
+      keep(w & cv::Rect(0, 0, frame.cols, frame.rows)) = 255;
     dark &= keep;
   }
   cv::Mat labels, stats, centroids;
@@ -133,8 +135,8 @@ CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
             (best == nullptr || b.area > best->area))
           best = &b;
       if (best == nullptr) {
-        out.problem = std::string("circle ") + circle_name(i) +
-                      " not found: looked in window " + window_text(w);
+        out.problem = std::string("circle ") + circle_name(i) + " not found: looked in window " +
+                      window_text(w);
         return out;
       }
       out.circles[static_cast<size_t>(i)].centroid_px = best->centroid;
@@ -200,9 +202,8 @@ CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
   }
   if (runner_up - best < options_.ambiguity_margin) {
     std::ostringstream s;
-    s << "cannot tell the four circles apart: the best labelling scores " << best
-      << ", the next " << runner_up
-      << " (give windows of interest, or make one circle clearly larger)";
+    s << "cannot tell the four circles apart: the best labelling scores " << best << ", the next "
+      << runner_up << " (give windows of interest, or make one circle clearly larger)";
     out.problem = s.str();
     return out;
   }

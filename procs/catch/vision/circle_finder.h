@@ -60,7 +60,7 @@ struct CircleImage {
 
 struct CircleFinderResult {
   bool found = false;
-  std::string problem;  // why not found
+  std::string problem;                   // why not found
   std::array<CircleImage, 4> circles{};  // board order
   int frames_used = 0;
   int blobs_seen = 0;  // round dark blobs in the (first) frame

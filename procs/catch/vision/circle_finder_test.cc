@@ -98,8 +98,9 @@ TEST(CircleFinderTest, WindowsRestrictTheSearch) {
   const CircleFinderResult r = CircleFinder(s.board, s.camera, o).find(render_board(s, 2.0, 4));
   ASSERT_TRUE(r.found) << r.problem;
   const BoardPoseEstimator est(s.board, s.camera);
-  EXPECT_LT((r.circles[0].centroid_px - est.project_circle(s.board_to_camera, 3).centroid_px).norm(),
-            0.3);
+  EXPECT_LT(
+      (r.circles[0].centroid_px - est.project_circle(s.board_to_camera, 3).centroid_px).norm(),
+      0.3);
   // A window on plain board finds nothing there.
   (*o.windows)[1] = cv::Rect(300, 200, 20, 20);
   const CircleFinderResult none = CircleFinder(s.board, s.camera, o).find(render_board(s, 2.0, 4));

@@ -38,8 +38,8 @@ double lens_area(double d, double r) {
 }
 
 struct Moments {
-  double n = 0.0, sx = 0.0, sy = 0.0;  // binary
-  double w = 0.0, wx = 0.0, wy = 0.0;  // weighted by |difference|
+  double n = 0.0, sx = 0.0, sy = 0.0;      // binary
+  double w = 0.0, wx = 0.0, wy = 0.0;      // weighted by |difference|
   double sxx = 0.0, syy = 0.0, sxy = 0.0;  // binary, second (refine() only)
   Eigen::Vector2d weighted() const { return {wx / w, wy / w}; }
   // Minor / major axis of the binary part's moment ellipse (1: round).
@@ -53,7 +53,8 @@ struct Moments {
 };
 
 // Moments of one sign of the difference (sign * d >= th) inside `box`.
-Moments part_moments(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& box, int sign, int th) {
+Moments part_moments(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& box, int sign,
+                     int th) {
   Moments m;
   for (int y = box.y; y < box.br().y; ++y) {
     const uint8_t* a = cur.ptr<uint8_t>(y);
@@ -82,10 +83,9 @@ Moments refine(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& roi, int 
   for (int i = 0; i < 2 && m.w > 0.0; ++i) {
     const Eigen::Vector2d c = m.weighted();
     const double half = 2.0 * std::sqrt(m.n / kPi) + margin_px;
-    const cv::Rect box(static_cast<int>(std::floor(c.x() - half)),
-                       static_cast<int>(std::floor(c.y() - half)),
-                       static_cast<int>(std::ceil(2.0 * half)) + 1,
-                       static_cast<int>(std::ceil(2.0 * half)) + 1);
+    const cv::Rect box(
+        static_cast<int>(std::floor(c.x() - half)), static_cast<int>(std::floor(c.y() - half)),
+        static_cast<int>(std::ceil(2.0 * half)) + 1, static_cast<int>(std::ceil(2.0 * half)) + 1);
     m = part_moments(cur, old, box & roi, sign, th);
   }
   return m;
@@ -204,7 +204,10 @@ MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
     return out;
   }
   out.found = true;
-  out.plain_centroid_px = {(pos.sx + neg.sx) / out.area_px, (pos.sy + neg.sy) / out.area_px};
+  // The paper's centroid (eqs 1-3, binary) of the difference blob: both
+  // parts, stray pixels elsewhere left out.
+  out.plain_centroid_px = {(pos.sx + neg.sx) / (pos.n + neg.n),
+                           (pos.sy + neg.sy) / (pos.n + neg.n)};
   out.centroid_px = out.plain_centroid_px;
 
   const double min_part = std::max(1.0, options_.min_area_px / 4.0);
@@ -249,11 +252,11 @@ MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
   // The two positions are apart when the crescents are farther apart than a
   // disc of the "now" part's area is wide: then the "now" part is the disc.
   const double now_radius = std::sqrt(now.n / kPi);
-  const bool apart = separation > 2.0 * now_radius + 2.0 * options_.smoothing_sigma_px &&
-                     now.axis_ratio() > 0.75;
+  const bool apart =
+      separation > 2.0 * now_radius + 2.0 * options_.smoothing_sigma_px && now.axis_ratio() > 0.75;
   if (apart) {
-    learnt_radius_px_ = learnt_radius_px_ > 0.0 ? 0.8 * learnt_radius_px_ + 0.2 * now_radius
-                                                : now_radius;
+    learnt_radius_px_ =
+        learnt_radius_px_ > 0.0 ? 0.8 * learnt_radius_px_ + 0.2 * now_radius : now_radius;
   }
   const double radius = options_.ball_radius_px > 0.0 ? options_.ball_radius_px : learnt_radius_px_;
   out.ball_centre = true;

@@ -38,7 +38,8 @@ struct MotionMeasurement {
   // Best estimate of the ball's centre (px): the crescent-corrected centre
   // when ball_centre is true, else the plain centroid.
   Eigen::Vector2d centroid_px = Eigen::Vector2d::Zero();
-  // Paper eqs 1-3: centroid of every pixel of |difference| above threshold.
+  // Paper eqs 1-3: centroid of the pixels of |difference| above threshold
+  // in the difference blob (both parts; stray pixels elsewhere left out).
   Eigen::Vector2d plain_centroid_px = Eigen::Vector2d::Zero();
   double area_px = 0.0;      // pixels above threshold (zeroth moment)
   bool ball_centre = false;  // centroid_px is the ball's own centre
@@ -77,9 +78,11 @@ class MotionCentroid : public MotionDetector {
 
   // The ball radius (px) learnt so far (0 if none) and the learnt sign.
   double learnt_radius_px() const { return learnt_radius_px_; }
-  int learnt_sign() const { return sign_votes_ >= options_.votes_to_learn_sign    ? 1
-                                   : sign_votes_ <= -options_.votes_to_learn_sign ? -1
-                                                                                  : 0; }
+  int learnt_sign() const {
+    return sign_votes_ >= options_.votes_to_learn_sign    ? 1
+           : sign_votes_ <= -options_.votes_to_learn_sign ? -1
+                                                          : 0;
+  }
 
  private:
   struct Frame {

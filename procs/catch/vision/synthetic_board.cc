@@ -22,8 +22,8 @@ class RayCaster {
           std::find(s.covered_circles.begin(), s.covered_circles.end(), i) !=
           s.covered_circles.end();
     if (s.ball)
-      ball_centre_ = Eigen::Vector3d(s.ball->xy_b_mm.x(), s.ball->xy_b_mm.y(),
-                                     s.board.ball_radius_mm());
+      ball_centre_ =
+          Eigen::Vector3d(s.ball->xy_b_mm.x(), s.ball->xy_b_mm.y(), s.board.ball_radius_mm());
   }
 
   int label(double u, double v) const {

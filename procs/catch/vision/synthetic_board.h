@@ -26,11 +26,11 @@ struct SyntheticBall {
 
 struct SyntheticScene {
   BoardSpec board;
-  CameraIntrinsics camera;  // its distortion is ignored
+  CameraIntrinsics camera;                  // its distortion is ignored
   Pose board_to_camera = Pose::Identity();  // p_C = R p_B + t
   double board_grey = 170.0;
   double circle_grey = 25.0;
-  double background_grey = 80.0;  // off the board
+  double background_grey = 80.0;     // off the board
   std::vector<int> covered_circles;  // circles painted over (board grey)
   std::optional<SyntheticBall> ball;
   int edge_supersample = 8;  // n x n samples in a pixel on an edge

@@ -20,7 +20,8 @@ inline SyntheticScene board_scene(double distance_mm, double tilt_deg, double pa
 inline std::vector<cv::Mat> noisy_frames(const SyntheticScene& s, int n, double sigma,
                                          uint64_t seed) {
   std::vector<cv::Mat> out;
-  for (int i = 0; i < n; ++i) out.push_back(render_board(s, sigma, seed + static_cast<uint64_t>(i)));
+  for (int i = 0; i < n; ++i)
+    out.push_back(render_board(s, sigma, seed + static_cast<uint64_t>(i)));
   return out;
 }
 
