@@ -41,6 +41,10 @@ struct Workcell {
   double base_yaw_rad = 0.0;
   double pedestal_radius_mm = 70.0;
   double tool_length_mm = 100.0;  // flange to manipulator tip along the approach axis
+  // Tool acceleration of ephor-arm's straight-line moves, mm/s^2 (the speed
+  // check then slows a move to the joints' limits). Shepherding's gentle
+  // 800; catching gives more and lets the joint limits decide.
+  double tool_accel_mm_s2 = 800.0;
 
   bool inside_field(double x_mm, double y_mm) const {
     return x_mm >= 0.0 && x_mm <= field_length_mm && y_mm >= 0.0 && y_mm <= field_width_mm;

@@ -35,6 +35,8 @@ Workcell load_workcell_file(const std::string& path) {
   take(file.has_pedestal_radius_mm(), file.pedestal_radius_mm(), "pedestal_radius_mm",
        &cell.pedestal_radius_mm, true);
   take(file.has_tool_length_mm(), file.tool_length_mm(), "tool_length_mm", &cell.tool_length_mm, true);
+  take(file.has_tool_accel_mm_s2(), file.tool_accel_mm_s2(), "tool_accel_mm_s2",
+       &cell.tool_accel_mm_s2, true);
   return cell;
 }
 

@@ -9,16 +9,19 @@ namespace ephor::catching {
 
 namespace {
 
-arm::MotionPlannerConfig uncapped() {
+// As ephor-arm plans in the catching manifest: no tool-speed cap (the joint
+// limits bound the motion) and the work cell's tool acceleration.
+arm::MotionPlannerConfig as_the_arm_plans(const geometry::Workcell& cell) {
   arm::MotionPlannerConfig c;
-  c.max_speed_mm_s = 10000.0;  // the joint limits bound the motion, as ephor-arm runs in catch
+  c.max_speed_mm_s = kArmSpeedCapMmS;
+  c.cartesian_accel_mm_s2 = cell.tool_accel_mm_s2;
   return c;
 }
 
 }  // namespace
 
 CatchCell::CatchCell(const CatchScenario& scenario, const geometry::Workcell& cell)
-    : cell_(cell), puma_(arm::make_puma(cell)), planner_(cell, uncapped()) {
+    : cell_(cell), puma_(arm::make_puma(cell)), planner_(cell, as_the_arm_plans(cell)) {
   ready_point_ = scenario.placement.bottom_centre_w_mm;
   // The ball leaves the edge towards the arm: wait a little in front of it.
   ready_point_.x() -= 60.0;
@@ -57,7 +60,7 @@ ArmView CatchCell::arm_view(const arm::Joints& q) const {
 double CatchCell::move_time_from_ready_s(const Eigen::Vector3d& target_w_mm) const {
   const auto plan = planner_.plan(
       ready_q_, arm::tool_down_pose(cell_, target_w_mm.x(), target_w_mm.y(), target_w_mm.z(), 0.0),
-      10000.0);
+      kArmSpeedCapMmS);
   if (!plan.ok) return std::numeric_limits<double>::infinity();
   return plan.trajectory.duration_s();
 }

@@ -18,6 +18,9 @@
 
 namespace ephor::catching {
 
+// ephor-arm's --max-speed-mm-s in deploy/catch.pbtxt: no tool-speed cap in effect.
+constexpr double kArmSpeedCapMmS = 10000.0;
+
 class CatchCell {
  public:
   // Throws std::runtime_error when the ready point is out of the arm's reach.

@@ -98,13 +98,15 @@ class ArmProcess {
         arm_(ephor::arm::make_puma(cell)),
         validator_(calibration, cell, {camera.width_px, camera.height_px, options.max_speed_mm_s}),
         calibration_(std::move(calibration)),
-        planner_(cell, planner_config(options)),
+        planner_(cell, planner_config(cell, options)),
         gate_({static_cast<int64_t>(options.comm_timeout_ms * 1e3)}),
         next_trajectory_seq_(ephor::wall_us()) {}
 
-  static ephor::arm::MotionPlannerConfig planner_config(const Options& o) {
+  static ephor::arm::MotionPlannerConfig planner_config(const ephor::geometry::Workcell& cell,
+                                                       const Options& o) {
     ephor::arm::MotionPlannerConfig c;
     c.max_speed_mm_s = o.max_speed_mm_s;
+    c.cartesian_accel_mm_s2 = cell.tool_accel_mm_s2;
     return c;
   }
 

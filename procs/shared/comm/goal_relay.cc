@@ -304,6 +304,11 @@ RelayOutput GoalRelay::step(int64_t now_us) {
     }
   }
 
+  if (options_.preempt_in_flight && in_flight_ && pending_ &&
+      in_flight_->phase == Phase::kExecuting) {
+    finish(Outcome::kFailed, fmt::format("superseded by goal {}", pending_->goal.goal_id), now_us);
+  }
+
   if (!in_flight_ && pending_ && (arm_heard_ || !options_.wait_for_arm_state)) {
     InFlight f;
     f.seq = next_seq_++;

@@ -165,6 +165,13 @@ struct RelayOptions {
   // max_attempts * retry_interval ends TIMEOUT ("no arm heard").
   bool wait_for_arm_state = true;
   int32_t finished_memory = 64;  // finished goals remembered (late/duplicate acks, duplicate goals)
+  // Newest goal wins also over a motion in progress: a pending goal is sent
+  // at once when the in-flight one has been ACCEPTED (the arm replaces the
+  // motion; the old goal ends FAILED "superseded"). For planners that refine
+  // one target continuously (catching); shepherding waits for each motion.
+  // Never while the in-flight seq is still being delivered: a late copy of
+  // it must not reach the arm after the newer command.
+  bool preempt_in_flight = false;
 };
 
 // Why a goal cannot be sent (non-finite or out-of-range field), or nullopt.

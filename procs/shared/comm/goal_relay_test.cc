@@ -560,3 +560,41 @@ TEST(GoalRelayLossTest, WithATinyRetryBudgetEveryGoalEndsDoneOrTimeoutAndRunsAtM
 
 }  // namespace
 }  // namespace ephor::comm
+
+namespace ephor::comm {
+namespace {
+
+// Catching streams refined targets: with preempt_in_flight the newest goal
+// goes out as soon as the arm has accepted the one before it.
+TEST(GoalRelayPreempt, ANewerGoalReplacesAnAcceptedMotionButNotOneStillBeingDelivered) {
+  RelayOptions o;
+  o.preempt_in_flight = true;
+  o.wait_for_arm_state = false;
+  GoalRelay relay(o);
+  Goal first;
+  first.goal_id = 1;
+  first.planned_utime = 10;
+  relay.submit(first, 0);
+  RelayOutput out = relay.step(0);
+  ASSERT_EQ(out.commands.size(), 1u);
+  const int64_t seq1 = out.commands[0].seq;
+
+  Goal second = first;
+  second.goal_id = 2;
+  second.planned_utime = 20;
+  relay.submit(second, 1000);
+  out = relay.step(1000);
+  EXPECT_TRUE(out.commands.empty()) << "preempted a command the arm has not answered yet";
+
+  relay.on_ack({seq1, 1, AckStatus::kAccepted, "", 1.0}, 2000);
+  out = relay.step(2000);
+  ASSERT_EQ(out.commands.size(), 1u);
+  EXPECT_EQ(out.commands[0].goal.goal_id, 2);
+  ASSERT_EQ(out.done.size(), 1u);
+  EXPECT_EQ(out.done[0].goal_id, 1);
+  EXPECT_EQ(out.done[0].status, Outcome::kFailed);
+  EXPECT_NE(out.done[0].reason.find("superseded"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ephor::comm

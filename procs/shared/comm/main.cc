@@ -226,6 +226,7 @@ int main(int argc, char** argv) {
   int poll_ms = 200;
   int done_margin_ms = 1000;
   std::string arm_name = "arm";
+  bool preempt = false;
   double duration_s = 0.0;
   app.add_option("--retry-ms", retry_ms,
                  "re-send a command every this many ms until the arm answers")
@@ -246,12 +247,16 @@ int main(int argc, char** argv) {
   app.add_option("--arm-name", arm_name,
                  "sender name of the arm process; acks and state from others are ignored")
       ->capture_default_str();
+  app.add_flag("--preempt", preempt,
+               "a newer goal replaces the motion in progress once the arm has accepted it "
+               "(catching); default: each motion ends first (shepherding)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   ephor::init_logging(args.name);
 
   try {
     ephor::comm::RelayOptions options;
+    options.preempt_in_flight = preempt;
     options.retry_interval_us = int64_t{retry_ms} * 1000;
     options.max_attempts = max_attempts;
     options.poll_interval_us = int64_t{poll_ms} * 1000;
