@@ -133,4 +133,15 @@ inline BallisticCrossing ballistic_crossing(const BoardSpec& board,
   return out;
 }
 
+// Where the cup waits for a ball: where a ball leaving the bottom edge at
+// its centre, straight down the slope at 80 % of the speed of a roll down
+// the whole peg-free board (5/7 g sin i, rolling without slipping), crosses
+// the catch plane. Balls fly ~100-150 mm past the edge before they fall
+// through it, so waiting under the edge itself misses them all.
+inline Eigen::Vector3d ready_point_w_mm(const BoardSpec& board, const BoardPlacement& placement) {
+  const double a = 5.0 / 7.0 * kGravityMmS2 * std::sin(placement.incline_rad);
+  const double v = 0.8 * std::sqrt(2.0 * a * board.height_mm);
+  return ballistic_crossing(board, placement, board.width_mm / 2.0, 0.0, v).point_w_mm;
+}
+
 }  // namespace ephor::catching

@@ -53,6 +53,15 @@ void CatchSummary::on_sched_status(const std::string& host, bool rt, int64_t dea
   hosts_[host] = {rt, deadline_misses};
 }
 
+void CatchSummary::on_task(const std::string& process, const std::string& task,
+                           double exec_p50_us, double exec_p99_us, int64_t jobs,
+                           int64_t deadline_misses) {
+  tasks_[process + "/" + task] = {{"exec_p50_ms", exec_p50_us / 1e3},
+                                  {"exec_p99_ms", exec_p99_us / 1e3},
+                                  {"jobs", jobs},
+                                  {"deadline_misses", deadline_misses}};
+}
+
 int CatchSummary::caught() const {
   int n = 0;
   for (const auto& o : outcomes_) n += o.caught ? 1 : 0;
@@ -108,6 +117,7 @@ nlohmann::json CatchSummary::to_json() const {
     misses += h.second;
   }
   j["deadline_misses"] = misses;
+  j["tasks"] = tasks_;
   j["rt"] = rt;
   return j;
 }

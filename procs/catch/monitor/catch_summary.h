@@ -43,6 +43,10 @@ class CatchSummary {
                 const std::optional<Eigen::Vector2d>& position_b_mm);
   void on_board_pose(const Eigen::Isometry3d& board_to_camera);
   void on_sched_status(const std::string& host, bool rt, int64_t deadline_misses);
+  // One task's execution time (thread CPU time, us) as its scheduler reports
+  // it: the paper's Table 1 per process.
+  void on_task(const std::string& process, const std::string& task, double exec_p50_us,
+               double exec_p99_us, int64_t jobs, int64_t deadline_misses);
 
   int balls() const { return static_cast<int>(outcomes_.size()); }
   int caught() const;
@@ -60,6 +64,7 @@ class CatchSummary {
   int64_t last_world_utime_ = 0;
   int64_t world_outputs_ = 0;
   std::map<std::string, std::pair<bool, int64_t>> hosts_;
+  std::map<std::string, nlohmann::json> tasks_;  // "process/task" -> newest figures
 };
 
 }  // namespace ephor::catching

@@ -87,6 +87,8 @@ int main(int argc, char** argv) {
       for (const auto& t : m.tasks) misses += t.deadline_misses;
       std::lock_guard<std::mutex> lock(mutex);
       summary.on_sched_status(m.host, m.rt != 0, misses);
+      for (const auto& t : m.tasks)
+        summary.on_task(t.process, t.task, t.exec_p50_us, t.exec_p99_us, t.jobs, t.deadline_misses);
     });
     bus.start();
 

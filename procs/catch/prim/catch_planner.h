@@ -5,7 +5,7 @@
 // plans a trajectory for every goal it receives, so the planner sends a new
 // goal only when it matters, never more often than a minimum interval.
 //
-//   no ball yet             -> the ready point: the bottom centre of the
+//   no ball yet             -> the ready point (ready_point_w_mm, board_model.h): the
 //                              board dropped vertically to the catch plane
 //   a prediction            -> the predicted catch point (in the catch plane)
 //   the prediction moves    -> re-send when it moved by more than
@@ -23,6 +23,7 @@
 // owner. Expected outcomes (no prediction, out of reach) are values.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include <Eigen/Core>
@@ -49,6 +50,12 @@ struct CatchPlannerParams {
   int64_t refresh_period_us = 100'000;  // a smaller change is re-sent after this long
   int64_t min_interval_us = 30'000;     // between two goals, whatever the reason
   int64_t hold_after_catch_us = 500'000;
+  // A prediction less sure than this (sigma_mm) is not chased: the cup stays
+  // where it is (the ready point hedges best). Infinity = chase every one.
+  double max_sigma_mm = std::numeric_limits<double>::infinity();
+  // A catch further ahead than this is not chased yet: the ball has pegs to
+  // pass, which the prediction's sigma does not know of. Infinity = no wait.
+  double commit_ahead_s = std::numeric_limits<double>::infinity();
 
   // Defaults for a board: the box spans the board's width plus 100 mm on
   // each side (y of W), from 50 mm behind to 350 mm in front of the bottom

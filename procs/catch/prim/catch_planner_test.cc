@@ -30,9 +30,12 @@ class CatchPlannerTest : public ::testing::Test {
 
 TEST_F(CatchPlannerTest, WaitsAtTheReadyPointBeforeABallIsSeen) {
   CatchPlanner planner = make();
-  const Eigen::Vector3d ready =
-      placement_.bottom_centre_w_mm - Eigen::Vector3d(0.0, 0.0, kCatchPlaneBelowEdgeMm);
+  // In the catch plane, in front of the edge's centre where balls fall through it.
+  const Eigen::Vector3d ready = ready_point_w_mm(board_, placement_);
   EXPECT_EQ(planner.ready_point_w_mm(), ready);
+  EXPECT_NEAR(ready.z(), placement_.bottom_centre_w_mm.z() - kCatchPlaneBelowEdgeMm, 1e-9);
+  EXPECT_NEAR(ready.y(), placement_.bottom_centre_w_mm.y(), 1e-9);
+  EXPECT_LT(ready.x(), placement_.bottom_centre_w_mm.x() - 80.0);
   const CatchGoal first = planner.step(0, std::nullopt, cup_);
   EXPECT_TRUE(first.send);
   EXPECT_EQ(first.reason, GoalReason::kReady);
@@ -137,7 +140,7 @@ TEST_F(CatchPlannerTest, ReturnsToReadyAfterTheBallHasGone) {
 }
 
 TEST_F(CatchPlannerTest, RejectsABoxWithoutTheReadyPoint) {
-  params_.reach_max_w_mm.x() = placement_.bottom_centre_w_mm.x() - 10.0;
+  params_.reach_max_w_mm.x() = ready_point_w_mm(board_, placement_).x() - 10.0;
   EXPECT_THROW(make(), std::invalid_argument);
 }
 

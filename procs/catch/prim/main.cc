@@ -6,7 +6,9 @@
 // carry them out.
 //
 //   subscribes  CATCH_WORLD (catch_world_t), ARM_STATE (arm_state_t: where the
-//               cup is), CATCH_SURVEY (catch_survey_t: the board in W)
+//               cup is), CATCH_SURVEY (catch_survey_t: the board in W),
+//               CATCH_BOARD_POSE (catch_board_pose_t: the arm stays parked, out
+//               of the camera's way, until vision has found the board)
 //   publishes   ARM_GOAL (arm_goal_t, KIND_POSE)
 //   tasks       plan (triggered by CATCH_WORLD: always the newest one)
 
@@ -29,12 +31,34 @@
 #include "common/time/clock.h"
 #include "ephor/arm_goal_t.hpp"
 #include "ephor/arm_state_t.hpp"
+#include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
 #include "procs/catch/board/board_file.h"
 #include "procs/catch/board/board_survey.h"
 #include "procs/catch/board/catch_channels.h"
 #include "procs/catch/prim/catch_planner.h"
+
+namespace {
+
+// Each goal makes ephor-arm plan a new motion from wherever the arm is, and
+// the first predictions of a ball are poor (its velocity is not yet known,
+// pegs lie ahead): chase a prediction once it is within 40 mm (1 sigma), and
+// re-aim at most every 250 ms (the arm plans each new goal from rest, so
+// every re-aim costs it time), for a change of at least 15 mm or half a sigma.
+ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
+                                          double commit_ahead_s) {
+  p.max_sigma_mm = 40.0;
+  p.commit_ahead_s = commit_ahead_s;
+  p.min_interval_us = 250'000;
+  p.resend_min_mm = 15.0;
+  p.resend_sigma_fraction = 0.5;
+  p.refresh_min_mm = 5.0;
+  p.refresh_period_us = 200'000;
+  return p;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -44,8 +68,12 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
-  double duration_s = 0.0;
+  double duration_s = 0.0, commit_ahead_s = 0.6;
   app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--commit-ahead-s", commit_ahead_s,
+                 "chase a predicted catch only when it is at most this far ahead, s (the cup "
+                 "waits at the ready point before; default 0.6)")
+      ->check(CLI::Range(0.05, 10.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
@@ -57,6 +85,7 @@ int main(int argc, char** argv) {
     std::mutex mutex;
     std::optional<CatchPlanner> planner;
     std::optional<Eigen::Vector3d> cup;
+    bool camera_ready = false;  // vision has the board's pose: the arm may come into view
     Mailbox<catch_world_t> worlds;
     std::atomic<int64_t> goals{0}, bad_messages{0};
     const int64_t run_id = wall_us();  // goal ids unique across restarts
@@ -77,11 +106,16 @@ int main(int argc, char** argv) {
         return;
       }
       if (!planner) {
-        planner.emplace(board, *placement, CatchPlannerParams::for_board(board, *placement));
+        planner.emplace(board, *placement, tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
       }
+    });
+    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (m.valid && !camera_ready) spdlog::info("the camera has the board: moving to the ready point");
+      camera_ready = camera_ready || m.valid;
     });
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
       const Eigen::Vector3d p(m.x_mm, m.y_mm, m.z_mm);
@@ -98,7 +132,7 @@ int main(int argc, char** argv) {
       const auto world = worlds.take();
       if (!world) return;
       std::lock_guard<std::mutex> lock(mutex);
-      if (!planner || !cup) return;
+      if (!planner || !cup || !camera_ready) return;
       std::optional<CatchPrediction> prediction;
       if (world->has_prediction && world->status != catch_world_t::STATUS_NO_BALL) {
         CatchPrediction p;

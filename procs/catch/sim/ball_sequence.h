@@ -31,8 +31,11 @@ class BallSequence {
     std::string reason;
   };
 
-  // balls: how many to release (0 = endless); gap_s: pause before each release.
-  BallSequence(const CatchScenario& scenario, int balls, double gap_s);
+  // balls: how many to release (0 = endless); gap_s: pause before each
+  // release; first_release_s: world time of the first release (the arm first
+  // waits parked while vision finds the board, then moves to the ready point).
+  BallSequence(const CatchScenario& scenario, int balls, double gap_s,
+               double first_release_s = 0.0);
 
   // Called after every world step at world time now_s with the arm's joints.
   void step(BoardWorld& world, const CatchCell& cell, const arm::Joints& q, double now_s);
@@ -53,6 +56,7 @@ class BallSequence {
   CatchJudge judge_;
   int balls_;
   double gap_s_;
+  double first_release_s_;
   Phase phase_ = Phase::kWaiting;
   int ball_ = 0;
   double phase_since_s_ = 0.0;

@@ -22,10 +22,7 @@ arm::MotionPlannerConfig as_the_arm_plans(const geometry::Workcell& cell) {
 
 CatchCell::CatchCell(const CatchScenario& scenario, const geometry::Workcell& cell)
     : cell_(cell), puma_(arm::make_puma(cell)), planner_(cell, as_the_arm_plans(cell)) {
-  ready_point_ = scenario.placement.bottom_centre_w_mm;
-  // The ball leaves the edge towards the arm: wait a little in front of it.
-  ready_point_.x() -= 60.0;
-  ready_point_.z() -= kCatchPlaneBelowEdgeMm;
+  ready_point_ = catching::ready_point_w_mm(scenario.board, scenario.placement);
   const auto q = puma_.nearest_inverse(
       arm::tool_down_pose(cell_, ready_point_.x(), ready_point_.y(), ready_point_.z(), 0.0),
       arm::reference_joints());
@@ -33,6 +30,11 @@ CatchCell::CatchCell(const CatchScenario& scenario, const geometry::Workcell& ce
     throw std::runtime_error(
         "the catch ready point is out of the PUMA 560's reach: check the work cell");
   ready_q_ = *q;
+  const Eigen::Vector3d park(ready_point_.x() - 250.0, ready_point_.y(), ready_point_.z() + 430.0);
+  const auto p = puma_.nearest_inverse(arm::tool_down_pose(cell_, park.x(), park.y(), park.z(), 0.0),
+                                       ready_q_);
+  if (!p) throw std::runtime_error("the catch park point is out of the PUMA 560's reach: check the work cell");
+  park_q_ = *p;
 }
 
 Eigen::Vector3d CatchCell::cup_w_mm(const arm::Joints& q) const {

@@ -29,6 +29,10 @@ class CatchCell {
   // The ready point: the catch plane below the bottom edge's centre, W (mm).
   const Eigen::Vector3d& ready_point_w_mm() const { return ready_point_; }
   const arm::Joints& ready_joints() const { return ready_q_; }
+  // Where the arm starts: tool down high and back by the column, out of the
+  // camera's way while vision finds the board's circles (the cup over the
+  // board's foot hid a circle, or was taken for one, on some seeds).
+  const arm::Joints& park_joints() const { return park_q_; }
   const arm::Puma560& puma() const { return puma_; }
 
   // Cup opening centre (the tool tip) for joints q, W (mm).
@@ -46,6 +50,7 @@ class CatchCell {
   arm::MotionPlanner planner_;
   Eigen::Vector3d ready_point_;
   arm::Joints ready_q_;
+  arm::Joints park_q_;
 };
 
 }  // namespace ephor::catching

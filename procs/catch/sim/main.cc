@@ -136,13 +136,14 @@ struct SimProcess {
   int servo_ticks = 0;
   std::atomic<int64_t> frames{0}, trajectories_refused{0}, physics_skips{0};
 
-  SimProcess(CatchScenario s, const geometry::Workcell& c, int ball_count, double gap_s)
+  SimProcess(CatchScenario s, const geometry::Workcell& c, int ball_count, double gap_s,
+             double first_release_s)
       : scenario(std::move(s)),
         cell(c),
         catch_cell(scenario, cell),
         world(scenario),
-        servo(catch_cell.puma().limits(), catch_cell.ready_joints()),
-        balls(scenario, ball_count, gap_s) {}
+        servo(catch_cell.puma().limits(), catch_cell.park_joints()),
+        balls(scenario, ball_count, gap_s, first_release_s) {}
   int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
 
   // One 1 ms step of board, ball sequence and servo (caller holds mutex).
@@ -167,7 +168,7 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "sim");
   uint64_t seed = 1;
   int balls = 0;
-  double fps = 60.0, gap_s = 1.0, duration_s = 0.0;
+  double fps = 60.0, gap_s = 1.0, first_release_s = 6.0, duration_s = 0.0;
   std::string workcell_path = "deploy/catch/workcell.pbtxt",
               board_path = "deploy/catch/board.pbtxt", png_path;
   app.add_option("--seed", seed, "random seed: incline, pegs, camera pose, releases (default 1)");
@@ -177,6 +178,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 240.0));
   app.add_option("--gap-s", gap_s, "time between one ball's judgement and the next release, s")
       ->check(CLI::Range(0.2, 60.0));
+  app.add_option("--first-release-s", first_release_s,
+                 "when the first ball is released, s after start-up (vision finds the board, the "
+                 "arm comes from its park pose to the ready point; default 6)")
+      ->check(CLI::Range(0.0, 600.0));
   app.add_option("--workcell", workcell_path, "work cell file (common/geometry/workcell.proto)");
   app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
@@ -188,7 +193,7 @@ int main(int argc, char** argv) {
   try {
     const BoardSpec board = load_board_file(resolve_repo_path(board_path));
     const geometry::Workcell cell = geometry::load_workcell_file(resolve_repo_path(workcell_path));
-    SimProcess p(CatchScenario::draw(seed, board), cell, balls, gap_s);
+    SimProcess p(CatchScenario::draw(seed, board), cell, balls, gap_s, first_release_s);
     BoardRenderer renderer(p.scenario, CupSpec{}, seed);
     cv::Mat image;
 

@@ -63,6 +63,25 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
   }
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(dark, labels, stats, centroids, 8, CV_32S);
+  // The board is the bright part of the scene: a circle is painted on it, so
+  // the ring around a true circle is board-bright. Dark texture off the board
+  // (the lab around it) is surrounded by dark. Board level: the image's 90th
+  // percentile of grey.
+  double board_grey = 0.0;
+  {
+    int hist[256] = {0};
+    for (int y = 0; y < frame.rows; ++y)
+      for (int x = 0; x < frame.cols; ++x) ++hist[frame.at<uint8_t>(y, x)];
+    const double want = 0.9 * frame.rows * frame.cols;
+    double seen = 0.0;
+    for (int g = 0; g < 256; ++g) {
+      seen += hist[g];
+      if (seen >= want) {
+        board_grey = g;
+        break;
+      }
+    }
+  }
 
   std::vector<Blob> blobs;
   const double min_area = kPi / 4.0 * options_.min_diameter_px * options_.min_diameter_px;
@@ -97,22 +116,40 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
     cv::dilate(own, support, kernel, cv::Point(-1, -1), 2);
     cv::dilate(own, outer, kernel, cv::Point(-1, -1), 6);
     const cv::Mat ring = outer & ~support & ~dark(roi);
-    std::vector<double> board_values, circle_values;
+    // The board's brightness around the circle as a plane in (x, y): the
+    // lighting is uneven (fluorescent bands, vignetting), and a constant
+    // level biases the centroid towards the darker side by 0.1-0.2 px.
     const cv::Mat pixels = frame(roi);
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    int ring_count = 0;
     for (int y = 0; y < roi.height; ++y)
       for (int x = 0; x < roi.width; ++x) {
-        const double g = pixels.at<uint8_t>(y, x);
-        if (ring.at<uint8_t>(y, x)) board_values.push_back(g);
-        if (inner.at<uint8_t>(y, x)) circle_values.push_back(g);
+        if (!ring.at<uint8_t>(y, x)) continue;
+        const Eigen::Vector3d a(1.0, x, y);
+        ata += a * a.transpose();
+        atb += a * static_cast<double>(pixels.at<uint8_t>(y, x));
+        ++ring_count;
       }
-    if (board_values.size() < 8) continue;
-    const double bright = median(board_values), dark_level = median(circle_values);
-    if (!(bright - dark_level > 1.0)) continue;
+    if (ring_count < 8) continue;
+    if (atb[0] / ring_count < 0.5 * board_grey) continue;  // not on the board
+    const Eigen::Vector3d plane = ata.ldlt().solve(atb);
+    auto bright_at = [&plane](int x, int y) { return plane[0] + plane[1] * x + plane[2] * y; };
+    // The circle's paint reflects a fixed fraction of the same light.
+    std::vector<double> ratios;
+    for (int y = 0; y < roi.height; ++y)
+      for (int x = 0; x < roi.width; ++x)
+        if (inner.at<uint8_t>(y, x) && bright_at(x, y) > 1.0)
+          ratios.push_back(pixels.at<uint8_t>(y, x) / bright_at(x, y));
+    if (ratios.empty()) continue;
+    const double dark_ratio = median(ratios);
+    if (!(dark_ratio < 0.95)) continue;
     double s0 = 0.0, sx = 0.0, sy = 0.0;
     for (int y = 0; y < roi.height; ++y)
       for (int x = 0; x < roi.width; ++x) {
         if (!support.at<uint8_t>(y, x)) continue;
-        const double w = (bright - pixels.at<uint8_t>(y, x)) / (bright - dark_level);
+        const double bright = bright_at(x, y);
+        const double w = (bright - pixels.at<uint8_t>(y, x)) / (bright * (1.0 - dark_ratio));
         s0 += w;
         sx += w * (roi.x + x);
         sy += w * (roi.y + y);

@@ -24,6 +24,8 @@ const char* to_string(RejectReason reason) {
       return "jump";
     case RejectReason::kAfterExit:
       return "after exit";
+    case RejectReason::kNotAtStart:
+      return "no ball yet and not high on the board where balls start";
   }
   return "?";
 }

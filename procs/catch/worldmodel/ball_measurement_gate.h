@@ -40,6 +40,7 @@ enum class RejectReason {
   kOffBoard,        // outside [0, width] x [0, height] plus the margin
   kJump,            // farther from the last accepted point than the ball can roll
   kAfterExit,       // near the bottom edge just after the ball left (BallWorldModel)
+  kNotAtStart,      // no ball yet, and not where balls are released (BallWorldModel)
 };
 inline constexpr int kRejectReasonCount = 7;
 const char* to_string(RejectReason reason);

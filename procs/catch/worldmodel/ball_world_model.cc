@@ -139,7 +139,13 @@ const BallFrame& BallWorldModel::update(int64_t capture_utime,
       } else {
         if (phase_ == Phase::kExited) drop_track();  // a new ball, high on the board
         const GateDecision decision = gate_.check(t_s, z);
-        if (!decision.accepted) {
+        const bool new_ball = decision.acquired || phase_ != Phase::kTracking;
+        if (decision.accepted && new_ball && z.y() > params_.acquire_max_y_mm) {
+          frame_.reason = RejectReason::kNotAtStart;
+          gate_.note_rejection(frame_.reason);
+          gate_.reset();
+          rejected = true;
+        } else if (!decision.accepted) {
           frame_.reason = decision.reason;
           rejected = true;
         } else {

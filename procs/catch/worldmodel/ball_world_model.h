@@ -25,6 +25,7 @@
 // owner (the process's task loop).
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include <Eigen/Core>
@@ -51,6 +52,10 @@ struct BallWorldModelParams {
   double coast_limit_s = 0.25;  // no accepted point for this long: the ball is lost
   double exited_hold_s = 1.0;   // EXITED is reported this long after the exit
   double reacquire_clearance_mm = 150.0;
+  // A new ball is acquired only this far down the board (y of B, mm): balls
+  // are released at the top, and motion lower down with no ball tracked is
+  // the arm moving in view. Infinity = anywhere.
+  double acquire_max_y_mm = std::numeric_limits<double>::infinity();
 };
 
 struct BallFrame {

@@ -165,6 +165,23 @@ TEST_F(BallWorldModelTest, LosesABallThatIsNoLongerSeen) {
   EXPECT_EQ(wm.lost(), 1);
 }
 
+// The arm moving in view near the board's foot makes motion in the
+// difference image: with no ball tracked, that must not start a "ball" (and
+// so reach Prim); a real ball released at the top still does.
+TEST_F(BallWorldModelTest, MotionLowOnTheBoardWithoutABallStartsNoBall) {
+  params_.acquire_max_y_mm = board_.height_mm / 3.0;
+  BallWorldModel model = make();
+  int64_t t = 1'000'000;
+  for (int i = 0; i < 20; ++i, t += kFrameUs) {
+    const BallFrame& f = model.update(t, pixel_of(Eigen::Vector2d(250.0 + 3.0 * i, 800.0)));
+    EXPECT_EQ(f.status, BallStatus::kRejected) << "frame " << i;
+    EXPECT_EQ(f.reason, RejectReason::kNotAtStart);
+    EXPECT_FALSE(f.has_prediction);
+  }
+  for (int i = 0; i < 5; ++i, t += kFrameUs) model.update(t, pixel_of(Eigen::Vector2d(300.0, 60.0 + i)));
+  EXPECT_EQ(model.last().status, BallStatus::kTracking);
+}
+
 TEST_F(BallWorldModelTest, OutOfOrderFrameChangesNothing) {
   BallWorldModel wm = make();
   wm.update(100'000, pixel_of({300.0, 100.0}));

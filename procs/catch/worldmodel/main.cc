@@ -163,7 +163,9 @@ int main(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(mutex);
       if (!model) {
         if (!board_to_camera || !placement) return;  // not initialised yet
-        model.emplace(board, *placement, intrinsics, *board_to_camera);
+        BallWorldModelParams params;
+        params.acquire_max_y_mm = board.height_mm / 3.0;  // released at the top
+        model.emplace(board, *placement, intrinsics, *board_to_camera, params);
         spdlog::info("initialised: tracking");
       }
       std::optional<Eigen::Vector2d> centroid;
