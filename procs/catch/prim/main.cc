@@ -48,7 +48,7 @@ namespace {
 // every re-aim costs it time), for a change of at least 15 mm or half a sigma.
 ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
                                           double commit_ahead_s) {
-  p.max_sigma_mm = 40.0;
+  p.max_sigma_mm = 150.0;
   p.commit_ahead_s = commit_ahead_s;
   p.min_interval_us = 250'000;
   p.resend_min_mm = 15.0;

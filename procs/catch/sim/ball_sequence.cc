@@ -50,8 +50,12 @@ void BallSequence::step(BoardWorld& world, const CatchCell& cell, const arm::Joi
       // Judged where the ball falls through the cup's opening: once it is
       // below the catch plane the cup had its chance.
       if (now_s < crossing_->time_s) return;
-      const CatchVerdict v = judge_.judge(*world.exit(), cell.cup_w_mm(q));
-      return finish(v.caught, v.reason);
+      const Eigen::Vector3d cup = cell.cup_w_mm(q);
+      const CatchVerdict v = judge_.judge(*world.exit(), cup);
+      finish(v.caught, v.reason);
+      last_->ball_w_mm = v.ball_w_mm;
+      last_->cup_w_mm = cup;
+      return;
     }
     case Phase::kDone:
       return;

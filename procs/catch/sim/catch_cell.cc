@@ -30,7 +30,9 @@ CatchCell::CatchCell(const CatchScenario& scenario, const geometry::Workcell& ce
     throw std::runtime_error(
         "the catch ready point is out of the PUMA 560's reach: check the work cell");
   ready_q_ = *q;
-  const Eigen::Vector3d park(ready_point_.x() - 250.0, ready_point_.y(), ready_point_.z() + 430.0);
+  // 300 mm out from the column, 600 mm up: clear of every seed's view of the
+  // circles in the seeds tried (1-20).
+  const Eigen::Vector3d park(cell.base_x_mm + 300.0, cell.base_y_mm, 600.0);
   const auto p = puma_.nearest_inverse(arm::tool_down_pose(cell_, park.x(), park.y(), park.z(), 0.0),
                                        ready_q_);
   if (!p) throw std::runtime_error("the catch park point is out of the PUMA 560's reach: check the work cell");

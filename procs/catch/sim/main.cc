@@ -265,6 +265,7 @@ int main(int argc, char** argv) {
     }
 
     std::atomic<bool> finished{false};
+    int logged_ball = -1;
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)), [&] {
       std::optional<Eigen::Vector3d> ball;
       ArmView arm;
@@ -279,6 +280,14 @@ int main(int argc, char** argv) {
         if (const auto& e = p.balls.expected_exit()) truth.exit_utime = p.utime_of(e->time_s);
         truth.utime = p.utime_of(p.clock_s);
         if (p.balls.finished_for_s(p.world.time_s()) > 1.0) finished = true;
+        if (const auto& last = p.balls.last(); last && last->ball != logged_ball) {
+          logged_ball = last->ball;
+          spdlog::info("ball {}: {}; it fell through the cup's plane at ({:.0f}, {:.0f}, {:.0f}) "
+                       "mm, cup at ({:.0f}, {:.0f}, {:.0f}) mm{}",
+                       last->ball, last->reason, last->ball_w_mm.x(), last->ball_w_mm.y(),
+                       last->ball_w_mm.z(), last->cup_w_mm.x(), last->cup_w_mm.y(), last->cup_w_mm.z(),
+                       last->oracle_reachable ? "" : " (out of the arm's reach in the time it gave)");
+        }
       }
       const auto ball_px = renderer.render(ball, arm, image);
       frame.utime = truth.utime;
