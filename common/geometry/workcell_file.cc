@@ -19,8 +19,10 @@ Workcell load_workcell_file(const std::string& path) {
     if (positive && value <= 0.0) text.fail(name, "must be > 0, is " + std::to_string(value));
     *into = value;
   };
-  take(file.has_field_length_mm(), file.field_length_mm(), "field_length_mm", &cell.field_length_mm, true);
-  take(file.has_field_width_mm(), file.field_width_mm(), "field_width_mm", &cell.field_width_mm, true);
+  take(file.has_field_length_mm(), file.field_length_mm(), "field_length_mm", &cell.field_length_mm,
+       true);
+  take(file.has_field_width_mm(), file.field_width_mm(), "field_width_mm", &cell.field_width_mm,
+       true);
   take(file.has_elevation_plane_z_mm(), file.elevation_plane_z_mm(), "elevation_plane_z_mm",
        &cell.elevation_plane_z_mm, false);
   take(file.has_object_plane_z_mm(), file.object_plane_z_mm(), "object_plane_z_mm",
@@ -34,7 +36,8 @@ Workcell load_workcell_file(const std::string& path) {
   cell.base_yaw_rad = yaw_deg * std::numbers::pi / 180.0;
   take(file.has_pedestal_radius_mm(), file.pedestal_radius_mm(), "pedestal_radius_mm",
        &cell.pedestal_radius_mm, true);
-  take(file.has_tool_length_mm(), file.tool_length_mm(), "tool_length_mm", &cell.tool_length_mm, true);
+  take(file.has_tool_length_mm(), file.tool_length_mm(), "tool_length_mm", &cell.tool_length_mm,
+       true);
   take(file.has_tool_accel_mm_s2(), file.tool_accel_mm_s2(), "tool_accel_mm_s2",
        &cell.tool_accel_mm_s2, true);
   return cell;

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/config/text_proto.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 
 namespace ephor::geometry {
 namespace {

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "common/launch/process_table.h"
 #include "common/launch/process_group.h"
+#include "common/launch/process_table.h"
 
 namespace ephor::deputy {
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "ephor/deputy_orders_t.hpp"
-#include "ephor/deputy_status_t.hpp"
 #include "common/launch/process_table.h"
 #include "common/launch/process_usage.h"
+#include "ephor/deputy_orders_t.hpp"
+#include "ephor/deputy_status_t.hpp"
 
 namespace ephor::deputy {
 

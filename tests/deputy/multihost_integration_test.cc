@@ -50,10 +50,11 @@ class Watch {
       std::lock_guard<std::mutex> lock(mutex_);
       if (o.num_objects > 0) ++tracked_;
     });
-    bus_.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [this](const shepherd_ground_truth_t& t) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      herd_ = {t.sim_time_s, t.escapes, t.saves};
-    });
+    bus_.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth,
+                                            [this](const shepherd_ground_truth_t& t) {
+                                              std::lock_guard<std::mutex> lock(mutex_);
+                                              herd_ = {t.sim_time_s, t.escapes, t.saves};
+                                            });
     bus_.subscribe<arm_ack_t>("ARM_ACK", [this](const arm_ack_t& a) {
       std::lock_guard<std::mutex> lock(mutex_);
       ++arm_acks_;

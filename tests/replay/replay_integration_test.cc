@@ -147,7 +147,8 @@ struct TruthScore {
   int id_switches = 0;
 };
 
-TruthScore score(const std::vector<shepherd_objects_t>& objects, const std::vector<shepherd_ground_truth_t>& truth) {
+TruthScore score(const std::vector<shepherd_objects_t>& objects,
+                 const std::vector<shepherd_ground_truth_t>& truth) {
   std::map<int64_t, const shepherd_ground_truth_t*> by_utime;
   for (const auto& t : truth) by_utime[t.utime] = &t;
   TruthScore s;
@@ -346,7 +347,8 @@ TEST_F(ReplayTest, DroppedDuplicatedAndReorderedFramesAreHandled) {
   // the late frame get no OBJECTS.
   EXPECT_EQ(blob_msgs, static_cast<int>(frames.size()));
   EXPECT_EQ(replayed.size(), frames.size() - 2);
-  const TruthScore s = score(replayed, decode_all<shepherd_ground_truth_t>(events, channels::kGroundTruth));
+  const TruthScore s =
+      score(replayed, decode_all<shepherd_ground_truth_t>(events, channels::kGroundTruth));
   std::printf(
       "damaged log: %zu OBJECTS; tracked %d of %d sheep-frames, max error %.3f px, %d id "
       "switches\n",

@@ -32,8 +32,8 @@ TEST(LcmSchema, FindsTypesByShortAndFullNameAndFingerprint) {
   const LcmStruct* objects = schema.find("shepherd_objects_t");
   ASSERT_NE(objects, nullptr);
   EXPECT_EQ(objects, schema.find("ephor.shepherd_objects_t"));
-  EXPECT_EQ(objects,
-            schema.find_by_fingerprint(static_cast<uint64_t>(ephor::shepherd_objects_t::getHash())));
+  EXPECT_EQ(objects, schema.find_by_fingerprint(
+                         static_cast<uint64_t>(ephor::shepherd_objects_t::getHash())));
   EXPECT_EQ(schema.find("no_such_t"), nullptr);
   const auto& m = objects->members;
   ASSERT_GE(m.size(), 5u);

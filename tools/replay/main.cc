@@ -36,11 +36,11 @@
 #include <CLI/CLI.hpp>
 #include <lcm/lcm-cpp.hpp>
 
+#include "common/launch/process_group.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
 #include "ephor/task_register_t.hpp"
-#include "common/launch/process_group.h"
 #include "tools/replay/replay_plan.h"
 
 namespace {

@@ -110,7 +110,8 @@ TEST(Spy, DecodesOurTypesFromALivePublisher) {
   // lcm-spy's channel table names our classes, with no undecodable messages.
   const std::string table = read_file(out + "/channels.txt");
   EXPECT_NE(table.find("OBJECTS\tephor.shepherd_objects_t\t"), std::string::npos) << table;
-  EXPECT_NE(table.find("GROUND_TRUTH\tephor.shepherd_ground_truth_t\t"), std::string::npos) << table;
+  EXPECT_NE(table.find("GROUND_TRUTH\tephor.shepherd_ground_truth_t\t"), std::string::npos)
+      << table;
   EXPECT_NE(table.find("CAMERA\tephor.camera_frame_t\t"), std::string::npos) << table;
   // Its decoded message carries what we published.
   const std::string objects = read_file(out + "/OBJECTS.txt");

@@ -36,18 +36,16 @@ struct BoardCircle {
 
 // The board as a board file describes it (deploy/catch/board.pbtxt).
 struct BoardSpec {
-  double width_mm = 600.0;    // x extent of B
-  double height_mm = 900.0;   // y extent of B (length down the slope)
+  double width_mm = 600.0;   // x extent of B
+  double height_mm = 900.0;  // y extent of B (length down the slope)
   double ball_diameter_mm = 40.0;
   // top-left, top-right, bottom-left, bottom-right: (small x, small y),
   // (large x, small y), (small x, large y), (large x, large y) in B. The
   // default top-left circle is larger so that the four are told apart
   // under any camera pose (a rectangle of equal circles looks the same
   // turned by 180 degrees).
-  std::array<BoardCircle, 4> circles{{{60.0, 60.0, 70.0},
-                                      {540.0, 60.0, 50.0},
-                                      {60.0, 840.0, 50.0},
-                                      {540.0, 840.0, 50.0}}};
+  std::array<BoardCircle, 4> circles{
+      {{60.0, 60.0, 70.0}, {540.0, 60.0, 50.0}, {60.0, 840.0, 50.0}, {540.0, 840.0, 50.0}}};
   double ball_radius_mm() const { return ball_diameter_mm / 2.0; }
   bool on_board(double x_mm, double y_mm) const {
     return x_mm >= 0.0 && x_mm <= width_mm && y_mm >= 0.0 && y_mm <= height_mm;
@@ -56,10 +54,10 @@ struct BoardSpec {
 
 // A pinhole camera with OpenCV's distortion coefficients (k1 k2 p1 p2 [k3 ...]).
 struct CameraIntrinsics {
-  int width = 640;   // px
-  int height = 480;  // px
-  double fx = 600.0, fy = 600.0;  // px
-  double cx = 319.5, cy = 239.5;  // px
+  int width = 640;                 // px
+  int height = 480;                // px
+  double fx = 600.0, fy = 600.0;   // px
+  double cx = 319.5, cy = 239.5;   // px
   std::vector<double> distortion;  // empty = none
 };
 
@@ -75,7 +73,8 @@ constexpr double kGravityMmS2 = 9810.0;
 // the arm, (-cos i, 0, -sin i) in W; B's x axis is +y of W.
 struct BoardPlacement {
   double incline_rad = 25.0 * 3.14159265358979323846 / 180.0;
-  Eigen::Vector3d bottom_centre_w_mm{550.0, 500.0, 250.0};  // deploy/catch/workcell.pbtxt: the PUMA at (0, 500)
+  Eigen::Vector3d bottom_centre_w_mm{550.0, 500.0,
+                                     250.0};  // deploy/catch/workcell.pbtxt: the PUMA at (0, 500)
 };
 
 // p_W = board_to_world(...) * p_B.
@@ -116,12 +115,12 @@ struct BallisticCrossing {
 // (vx, vy) in B (mm/s, vy > 0 down the slope); where it crosses the catch
 // plane. Pure geometry shared by the simulator (judging a catch) and the
 // planner (aiming the cup).
-inline BallisticCrossing ballistic_crossing(const BoardSpec& board,
-                                            const BoardPlacement& placement,
+inline BallisticCrossing ballistic_crossing(const BoardSpec& board, const BoardPlacement& placement,
                                             double exit_x_b_mm, double vx_b_mm_s,
                                             double vy_b_mm_s) {
   const Pose b2w = board_to_world(board, placement);
-  const Eigen::Vector3d p = b2w * Eigen::Vector3d(exit_x_b_mm, board.height_mm, board.ball_radius_mm());
+  const Eigen::Vector3d p =
+      b2w * Eigen::Vector3d(exit_x_b_mm, board.height_mm, board.ball_radius_mm());
   const Eigen::Vector3d v = b2w.linear() * Eigen::Vector3d(vx_b_mm_s, vy_b_mm_s, 0.0);
   const double z_plane = placement.bottom_centre_w_mm.z() - kCatchPlaneBelowEdgeMm;
   // z(t) = p.z + v.z t - g t^2 / 2 = z_plane, positive root.

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 namespace ephor::catching {
 
@@ -35,8 +35,9 @@ std::optional<BoardPlacement> placement_from_survey(const BoardSpec& board,
   }
   const Eigen::Vector3d x_b = b2w.linear().col(0), y_b = b2w.linear().col(1);
   if (x_b.y() < std::cos(2.0 * M_PI / 180.0)) {
-    why = fmt::format("the board's bottom edge is {:.1f} deg off W's y axis (board_model.h wants it along y)",
-                      std::acos(std::clamp(x_b.y(), -1.0, 1.0)) * 180.0 / M_PI);
+    why = fmt::format(
+        "the board's bottom edge is {:.1f} deg off W's y axis (board_model.h wants it along y)",
+        std::acos(std::clamp(x_b.y(), -1.0, 1.0)) * 180.0 / M_PI);
     return std::nullopt;
   }
   BoardPlacement p;

@@ -53,9 +53,8 @@ void CatchSummary::on_sched_status(const std::string& host, bool rt, int64_t dea
   hosts_[host] = {rt, deadline_misses};
 }
 
-void CatchSummary::on_task(const std::string& process, const std::string& task,
-                           double exec_p50_us, double exec_p99_us, int64_t jobs,
-                           int64_t deadline_misses) {
+void CatchSummary::on_task(const std::string& process, const std::string& task, double exec_p50_us,
+                           double exec_p99_us, int64_t jobs, int64_t deadline_misses) {
   tasks_[process + "/" + task] = {{"exec_p50_ms", exec_p50_us / 1e3},
                                   {"exec_p99_ms", exec_p99_us / 1e3},
                                   {"jobs", jobs},
@@ -71,11 +70,12 @@ int CatchSummary::caught() const {
 std::string CatchSummary::status_line() const {
   int reachable = 0;
   for (const auto& o : outcomes_) reachable += o.oracle_reachable ? 1 : 0;
-  return fmt::format("balls {} caught {} (oracle-reachable {}), world outputs {}, throughput p99 "
-                     "{:.2f} ms, position error p99 {:.2f} mm",
-                     balls(), caught(), reachable, world_outputs_,
-                     throughput_ms_.empty() ? 0.0 : throughput_ms_.percentile(99),
-                     position_error_mm_.empty() ? 0.0 : position_error_mm_.percentile(99));
+  return fmt::format(
+      "balls {} caught {} (oracle-reachable {}), world outputs {}, throughput p99 "
+      "{:.2f} ms, position error p99 {:.2f} mm",
+      balls(), caught(), reachable, world_outputs_,
+      throughput_ms_.empty() ? 0.0 : throughput_ms_.percentile(99),
+      position_error_mm_.empty() ? 0.0 : position_error_mm_.percentile(99));
 }
 
 nlohmann::json CatchSummary::to_json() const {
@@ -90,7 +90,8 @@ nlohmann::json CatchSummary::to_json() const {
     reachable += o.oracle_reachable ? 1 : 0;
     caught_reachable += (o.oracle_reachable && o.caught) ? 1 : 0;
     if (!o.caught)
-      missed.push_back({{"ball", o.ball}, {"reason", o.reason}, {"oracle_reachable", o.oracle_reachable}});
+      missed.push_back(
+          {{"ball", o.ball}, {"reason", o.reason}, {"oracle_reachable", o.oracle_reachable}});
   }
   j["missed"] = missed;
   j["oracle_reachable"] = reachable;

@@ -34,9 +34,9 @@ class CatchSummary {
 
   // One frame of ground truth: the ball's centre on the board (B) and the
   // results so far. Outcomes are taken when last_ball changes.
-  void on_truth(int64_t utime, bool rolling, const Eigen::Vector2d& ball_b_mm,
-                int last_ball, bool last_caught, bool last_oracle_reachable,
-                const std::string& last_reason, const Eigen::Isometry3d& true_board_to_camera);
+  void on_truth(int64_t utime, bool rolling, const Eigen::Vector2d& ball_b_mm, int last_ball,
+                bool last_caught, bool last_oracle_reachable, const std::string& last_reason,
+                const Eigen::Isometry3d& true_board_to_camera);
   // One world-model output: capture time, when it was published, and the
   // filtered ball position on the board when tracking.
   void on_world(int64_t capture_utime, double latency_ms,

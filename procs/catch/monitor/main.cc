@@ -12,8 +12,8 @@
 
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
-#include "common/runtime/channels.h"
 #include "common/log/log.h"
+#include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "ephor/catch_board_pose_t.hpp"
@@ -77,11 +77,12 @@ int main(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(mutex);
       summary.on_world(m.utime, m.latency_ms, p);
     });
-    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
-      if (!m.valid) return;
-      std::lock_guard<std::mutex> lock(mutex);
-      summary.on_board_pose(pose_of(m.r, m.t_mm));
-    });
+    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose,
+                                      [&](const catch_board_pose_t& m) {
+                                        if (!m.valid) return;
+                                        std::lock_guard<std::mutex> lock(mutex);
+                                        summary.on_board_pose(pose_of(m.r, m.t_mm));
+                                      });
     bus.subscribe<sched_status_t>(ephor::channels::kSchedStatus, [&](const sched_status_t& m) {
       int64_t misses = 0;
       for (const auto& t : m.tasks) misses += t.deadline_misses;

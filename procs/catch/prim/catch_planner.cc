@@ -42,8 +42,7 @@ CatchPlannerParams CatchPlannerParams::for_board(const BoardSpec& board,
 
 CatchPlanner::CatchPlanner(const BoardSpec& board, const BoardPlacement& placement,
                            const CatchPlannerParams& params)
-    : params_(params),
-      ready_w_mm_(catching::ready_point_w_mm(board, placement)) {
+    : params_(params), ready_w_mm_(catching::ready_point_w_mm(board, placement)) {
   if (!params.reach_min_w_mm.allFinite() || !params.reach_max_w_mm.allFinite() ||
       (params.reach_min_w_mm.array() > params.reach_max_w_mm.array()).any()) {
     throw std::invalid_argument("CatchPlanner: the reachable box must be finite with min <= max");
@@ -90,13 +89,11 @@ CatchGoal CatchPlanner::step(int64_t now_utime, const std::optional<CatchPredict
   goal.goal_id = goal_id_;
   goal.point_w_mm = goal_w_mm_;
 
-  const bool coming = prediction && prediction->ball_id != finished_ball_id_ &&
-                      prediction->catch_point_w_mm.allFinite() &&
-                      std::isfinite(prediction->sigma_mm) &&
-                      prediction->sigma_mm <= params_.max_sigma_mm &&
-                      now_utime <= prediction->catch_utime &&
-                      1e-6 * static_cast<double>(prediction->catch_utime - now_utime) <=
-                          params_.commit_ahead_s;
+  const bool coming =
+      prediction && prediction->ball_id != finished_ball_id_ &&
+      prediction->catch_point_w_mm.allFinite() && std::isfinite(prediction->sigma_mm) &&
+      prediction->sigma_mm <= params_.max_sigma_mm && now_utime <= prediction->catch_utime &&
+      1e-6 * static_cast<double>(prediction->catch_utime - now_utime) <= params_.commit_ahead_s;
   Eigen::Vector3d wanted = ready_w_mm_;
   GoalReason due = GoalReason::kUnchanged;
   if (coming) {

@@ -106,17 +106,20 @@ int main(int argc, char** argv) {
         return;
       }
       if (!planner) {
-        planner.emplace(board, *placement, tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s));
+        planner.emplace(board, *placement,
+                        tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
       }
     });
-    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (m.valid && !camera_ready) spdlog::info("the camera has the board: moving to the ready point");
-      camera_ready = camera_ready || m.valid;
-    });
+    bus.subscribe<catch_board_pose_t>(
+        catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (m.valid && !camera_ready)
+            spdlog::info("the camera has the board: moving to the ready point");
+          camera_ready = camera_ready || m.valid;
+        });
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
       const Eigen::Vector3d p(m.x_mm, m.y_mm, m.z_mm);
       if (!p.allFinite()) return;

@@ -30,8 +30,9 @@ class BallSequence {
     bool caught = false;
     bool oracle_reachable = false;
     std::string reason;
-    Eigen::Vector3d ball_w_mm = Eigen::Vector3d::Constant(std::nan(""));  // where it fell through the cup's plane
-    Eigen::Vector3d cup_w_mm = Eigen::Vector3d::Constant(std::nan(""));   // the cup's opening then
+    Eigen::Vector3d ball_w_mm =
+        Eigen::Vector3d::Constant(std::nan(""));  // where it fell through the cup's plane
+    Eigen::Vector3d cup_w_mm = Eigen::Vector3d::Constant(std::nan(""));  // the cup's opening then
   };
 
   // balls: how many to release (0 = endless); gap_s: pause before each

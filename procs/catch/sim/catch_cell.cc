@@ -33,9 +33,11 @@ CatchCell::CatchCell(const CatchScenario& scenario, const geometry::Workcell& ce
   // 300 mm out from the column, 600 mm up: clear of every seed's view of the
   // circles in the seeds tried (1-20).
   const Eigen::Vector3d park(cell.base_x_mm + 300.0, cell.base_y_mm, 600.0);
-  const auto p = puma_.nearest_inverse(arm::tool_down_pose(cell_, park.x(), park.y(), park.z(), 0.0),
-                                       ready_q_);
-  if (!p) throw std::runtime_error("the catch park point is out of the PUMA 560's reach: check the work cell");
+  const auto p = puma_.nearest_inverse(
+      arm::tool_down_pose(cell_, park.x(), park.y(), park.z(), 0.0), ready_q_);
+  if (!p)
+    throw std::runtime_error(
+        "the catch park point is out of the PUMA 560's reach: check the work cell");
   park_q_ = *p;
 }
 

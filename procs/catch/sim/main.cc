@@ -212,18 +212,19 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
 
-    bus.subscribe<joint_trajectory_t>(ephor::channels::kArmTrajectory, [&p](const joint_trajectory_t& m) {
-      std::string why;
-      auto t = sim::to_trajectory(m, why);
-      if (!t) {
-        ++p.trajectories_refused;
-        spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
-                     p.trajectories_refused.load());
-        return;
-      }
-      std::lock_guard<std::mutex> lock(p.mutex);
-      p.pending = std::move(*t);
-    });
+    bus.subscribe<joint_trajectory_t>(
+        ephor::channels::kArmTrajectory, [&p](const joint_trajectory_t& m) {
+          std::string why;
+          auto t = sim::to_trajectory(m, why);
+          if (!t) {
+            ++p.trajectories_refused;
+            spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
+                         p.trajectories_refused.load());
+            return;
+          }
+          std::lock_guard<std::mutex> lock(p.mutex);
+          p.pending = std::move(*t);
+        });
 
     p.wall0_us = wall_us();
     p.mono0_ns = mono_ns();
@@ -282,11 +283,12 @@ int main(int argc, char** argv) {
         if (p.balls.finished_for_s(p.world.time_s()) > 1.0) finished = true;
         if (const auto& last = p.balls.last(); last && last->ball != logged_ball) {
           logged_ball = last->ball;
-          spdlog::info("ball {}: {}; it fell through the cup's plane at ({:.0f}, {:.0f}, {:.0f}) "
-                       "mm, cup at ({:.0f}, {:.0f}, {:.0f}) mm{}",
-                       last->ball, last->reason, last->ball_w_mm.x(), last->ball_w_mm.y(),
-                       last->ball_w_mm.z(), last->cup_w_mm.x(), last->cup_w_mm.y(), last->cup_w_mm.z(),
-                       last->oracle_reachable ? "" : " (out of the arm's reach in the time it gave)");
+          spdlog::info(
+              "ball {}: {}; it fell through the cup's plane at ({:.0f}, {:.0f}, {:.0f}) "
+              "mm, cup at ({:.0f}, {:.0f}, {:.0f}) mm{}",
+              last->ball, last->reason, last->ball_w_mm.x(), last->ball_w_mm.y(),
+              last->ball_w_mm.z(), last->cup_w_mm.x(), last->cup_w_mm.y(), last->cup_w_mm.z(),
+              last->oracle_reachable ? "" : " (out of the arm's reach in the time it gave)");
         }
       }
       const auto ball_px = renderer.render(ball, arm, image);

@@ -68,11 +68,12 @@ std::array<cv::Rect, 4> parse_windows(const std::string& text) {
     char c1, c2, c3;
     std::stringstream is(item);
     if (i >= 4 || !(is >> u0 >> c1 >> v0 >> c2 >> u1 >> c3 >> v1) || u1 <= u0 || v1 <= v0)
-      throw std::invalid_argument("--circle-windows: want four 'u0,v0,u1,v1' separated by ';', got '" +
-                                  text + "'");
+      throw std::invalid_argument(
+          "--circle-windows: want four 'u0,v0,u1,v1' separated by ';', got '" + text + "'");
     out[static_cast<size_t>(i++)] = cv::Rect(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
   }
-  if (i != 4) throw std::invalid_argument("--circle-windows: want 4 windows, got " + std::to_string(i));
+  if (i != 4)
+    throw std::invalid_argument("--circle-windows: want 4 windows, got " + std::to_string(i));
   return out;
 }
 
@@ -98,7 +99,9 @@ catch_board_pose_t to_message(const CircleFinderResult& circles, const BoardPose
 
 int main(int argc, char** argv) {
   block_shutdown_signals();
-  CLI::App app{"ephor-catch-vision: board pose from four circles, then the moving ball by frame differencing"};
+  CLI::App app{
+      "ephor-catch-vision: board pose from four circles, then the moving ball by frame "
+      "differencing"};
   ProcessArgs args;
   add_process_flags(app, args, "vision");
   std::string board_path = "deploy/catch/board.pbtxt", camera_path = "deploy/catch/camera.pbtxt",
@@ -107,9 +110,10 @@ int main(int argc, char** argv) {
   bool no_window = false;
   app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
   app.add_option("--camera", camera_path, "camera file (procs/catch/board/camera.proto)");
-  app.add_option("--circle-windows", windows_text,
-                 "the operator's windows of interest around the four circles: 'u0,v0,u1,v1;...' "
-                 "(top-left, top-right, bottom-left, bottom-right; px); default: found automatically");
+  app.add_option(
+      "--circle-windows", windows_text,
+      "the operator's windows of interest around the four circles: 'u0,v0,u1,v1;...' "
+      "(top-left, top-right, bottom-left, bottom-right; px); default: found automatically");
   app.add_option("--window-margin-px", window_margin_px,
                  "window of interest: margin around the predicted ball and its motion, px")
       ->check(CLI::Range(4.0, 1000.0));
@@ -136,7 +140,8 @@ int main(int argc, char** argv) {
       frames.put(m);
       runtime.trigger("vision");
     });
-    bus.subscribe<catch_world_t>(catching::channels::kWorld, [&](const catch_world_t& m) { worlds.put(m); });
+    bus.subscribe<catch_world_t>(catching::channels::kWorld,
+                                 [&](const catch_world_t& m) { worlds.put(m); });
 
     std::vector<cv::Mat> init_frames;
     std::optional<catch_board_pose_t> pose_msg;
@@ -153,7 +158,8 @@ int main(int argc, char** argv) {
       const double dt = static_cast<double>(utime - w->utime) / 1e6;
       if (dt < 0.0 || dt > 0.1) return std::nullopt;
       const Eigen::Vector3d now(w->position_b_mm[0] + w->velocity_b_mm_s[0] * dt,
-                                w->position_b_mm[1] + w->velocity_b_mm_s[1] * dt, board.ball_radius_mm());
+                                w->position_b_mm[1] + w->velocity_b_mm_s[1] * dt,
+                                board.ball_radius_mm());
       const Eigen::Vector3d before(now.x() - w->velocity_b_mm_s[0] / 30.0,
                                    now.y() - w->velocity_b_mm_s[1] / 30.0, now.z());
       if (!now.allFinite() || !before.allFinite()) return std::nullopt;
@@ -178,10 +184,11 @@ int main(int argc, char** argv) {
           frame->size != frame->width * frame->height ||
           frame->data.size() != static_cast<size_t>(frame->size)) {
         if (++bad_frames % 60 == 1)
-          spdlog::error("CAMERA frame {} is {} x {} ({} bytes); the camera file says {} x {}: "
-                        "ignored ({} so far)",
-                        frame->frame_index, frame->width, frame->height, frame->data.size(),
-                        intrinsics.width, intrinsics.height, bad_frames.load());
+          spdlog::error(
+              "CAMERA frame {} is {} x {} ({} bytes); the camera file says {} x {}: "
+              "ignored ({} so far)",
+              frame->frame_index, frame->width, frame->height, frame->data.size(), intrinsics.width,
+              intrinsics.height, bad_frames.load());
         return;
       }
       const cv::Mat image(frame->height, frame->width, CV_8UC1,
@@ -206,10 +213,11 @@ int main(int argc, char** argv) {
         }
         pose = p;
         last_pose_sent_us = wall_us();
-        spdlog::info("board pose from the circles: reprojection {:.3f} px RMS, IPPE error ratio "
-                     "{:.1f}; perspective bias {:.2f} {:.2f} {:.2f} {:.2f} px",
-                     p.reprojection_rms_px, p.ippe_error_ratio, p.bias_px[0].norm(),
-                     p.bias_px[1].norm(), p.bias_px[2].norm(), p.bias_px[3].norm());
+        spdlog::info(
+            "board pose from the circles: reprojection {:.3f} px RMS, IPPE error ratio "
+            "{:.1f}; perspective bias {:.2f} {:.2f} {:.2f} {:.2f} px",
+            p.reprojection_rms_px, p.ippe_error_ratio, p.bias_px[0].norm(), p.bias_px[1].norm(),
+            p.bias_px[2].norm(), p.bias_px[3].norm());
         return;
       }
       if (wall_us() - last_pose_sent_us > 1'000'000) {

@@ -178,7 +178,8 @@ TEST_F(BallWorldModelTest, MotionLowOnTheBoardWithoutABallStartsNoBall) {
     EXPECT_EQ(f.reason, RejectReason::kNotAtStart);
     EXPECT_FALSE(f.has_prediction);
   }
-  for (int i = 0; i < 5; ++i, t += kFrameUs) model.update(t, pixel_of(Eigen::Vector2d(300.0, 60.0 + i)));
+  for (int i = 0; i < 5; ++i, t += kFrameUs)
+    model.update(t, pixel_of(Eigen::Vector2d(300.0, 60.0 + i)));
   EXPECT_EQ(model.last().status, BallStatus::kTracking);
 }
 

@@ -112,26 +112,27 @@ int main(int argc, char** argv) {
     Mailbox<catch_ball_t> balls;
     std::atomic<int64_t> bad_messages{0}, published{0};
 
-    bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
-      if (!m.valid) return;
-      Pose pose = Pose::Identity();
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) pose.linear()(i, j) = m.r[3 * i + j];
-        pose.translation()[i] = m.t_mm[i];
-      }
-      if (!pose.matrix().allFinite() || std::abs(pose.linear().determinant() - 1.0) > 1e-3) {
-        ++bad_messages;
-        spdlog::warn("CATCH_BOARD_POSE ignored: not a finite rotation");
-        return;
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!board_to_camera)
-        spdlog::info(
-            "camera pose from the circles: board origin at ({:.1f}, {:.1f}, {:.1f}) mm in the "
-            "camera frame",
-            m.t_mm[0], m.t_mm[1], m.t_mm[2]);
-      board_to_camera = pose;
-    });
+    bus.subscribe<catch_board_pose_t>(
+        catching::channels::kBoardPose, [&](const catch_board_pose_t& m) {
+          if (!m.valid) return;
+          Pose pose = Pose::Identity();
+          for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) pose.linear()(i, j) = m.r[3 * i + j];
+            pose.translation()[i] = m.t_mm[i];
+          }
+          if (!pose.matrix().allFinite() || std::abs(pose.linear().determinant() - 1.0) > 1e-3) {
+            ++bad_messages;
+            spdlog::warn("CATCH_BOARD_POSE ignored: not a finite rotation");
+            return;
+          }
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!board_to_camera)
+            spdlog::info(
+                "camera pose from the circles: board origin at ({:.1f}, {:.1f}, {:.1f}) mm in the "
+                "camera frame",
+                m.t_mm[0], m.t_mm[1], m.t_mm[2]);
+          board_to_camera = pose;
+        });
     bus.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
       std::array<Eigen::Vector2d, 3> b;
       std::array<Eigen::Vector3d, 3> w;

@@ -24,11 +24,11 @@ struct ArmCommand {
   int plane = kPlaneElevation;  // kKindImage: kPlaneElevation or kPlaneObject
   double u_px = 0.0;            // kKindImage: target in the image, px
   double v_px = 0.0;
-  double theta_rad = 0.0;       // kKindImage: orientation in the image, rad from +u towards +v;
-                                // kKindPose: orientation about +z of F, rad
+  double theta_rad = 0.0;  // kKindImage: orientation in the image, rad from +u towards +v;
+                           // kKindPose: orientation about +z of F, rad
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // kKindPose: tool tip in F, mm
   Joints joints = Joints::Zero();                         // kKindJoints: rad
-  double max_speed_mm_s = 0.0;  // 0 = the arm's default cap
+  double max_speed_mm_s = 0.0;                            // 0 = the arm's default cap
 };
 
 // arm_ack_t.STATUS_* values.

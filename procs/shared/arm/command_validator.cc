@@ -48,12 +48,14 @@ Validation CommandValidator::validate(const ArmCommand& cmd, const Joints& curre
     case kKindJoints:
       return validate_joints(cmd);
     default:
-      return reject(fmt::format("unknown goal kind {} (want 0 = image, 1 = pose, 2 = joints)", cmd.kind));
+      return reject(
+          fmt::format("unknown goal kind {} (want 0 = image, 1 = pose, 2 = joints)", cmd.kind));
   }
 }
 
 std::string CommandValidator::speed_problem(double max_speed_mm_s) const {
-  if (!std::isfinite(max_speed_mm_s)) return fmt::format("speed {} mm/s is not finite", max_speed_mm_s);
+  if (!std::isfinite(max_speed_mm_s))
+    return fmt::format("speed {} mm/s is not finite", max_speed_mm_s);
   if (max_speed_mm_s < 0.0) return fmt::format("speed {} mm/s is negative", max_speed_mm_s);
   if (max_speed_mm_s > config_.max_speed_mm_s)
     return fmt::format("speed {} mm/s is above the arm's cap of {} mm/s", max_speed_mm_s,
@@ -108,9 +110,9 @@ Validation CommandValidator::validate_pose(const ArmCommand& cmd, const Joints& 
   if (auto why = speed_problem(cmd.max_speed_mm_s); !why.empty()) return reject(why);
   if (!current.allFinite()) return reject("the arm's current joints are unknown or not finite");
   if (!cell_.inside_field(p.x(), p.y()))
-    return reject(fmt::format(
-        "target ({:.1f}, {:.1f}, {:.1f}) mm is outside the work cell's {} x {} mm area", p.x(),
-        p.y(), p.z(), cell_.field_length_mm, cell_.field_width_mm));
+    return reject(
+        fmt::format("target ({:.1f}, {:.1f}, {:.1f}) mm is outside the work cell's {} x {} mm area",
+                    p.x(), p.y(), p.z(), cell_.field_length_mm, cell_.field_width_mm));
   if (p.z() < 0.0 || p.z() > config_.max_tip_height_mm)
     return reject(fmt::format("target height {:.1f} mm is outside [0, {:.0f}] mm above the table",
                               p.z(), config_.max_tip_height_mm));
@@ -143,17 +145,19 @@ Validation CommandValidator::reach(const Eigen::Vector3d& tip_mm, double theta_f
   Validation v;
   v.target.tip_mm = tip_mm;
   v.target.theta_field_rad = theta_field_rad;
-  v.target.pose_in_base = tool_down_pose(cell_, tip_mm.x(), tip_mm.y(), tip_mm.z(), theta_field_rad);
+  v.target.pose_in_base =
+      tool_down_pose(cell_, tip_mm.x(), tip_mm.y(), tip_mm.z(), theta_field_rad);
   const auto q = arm_.nearest_inverse(v.target.pose_in_base, current);
   if (!q) {
     return reject(fmt::format(
         "target ({:.1f}, {:.1f}, {:.1f}) mm of the field frame is out of the PUMA 560's "
         "reach with the tool down ({:.0f} mm from the column)",
-        tip_mm.x(), tip_mm.y(), tip_mm.z(), distance_from_column_mm(cell_, tip_mm.x(), tip_mm.y())));
+        tip_mm.x(), tip_mm.y(), tip_mm.z(),
+        distance_from_column_mm(cell_, tip_mm.x(), tip_mm.y())));
   }
   if (auto hit = collisions_.collision(*q)) {
-    return reject(fmt::format("target ({:.1f}, {:.1f}, {:.1f}) mm collides: ", tip_mm.x(), tip_mm.y(),
-                              tip_mm.z()) +
+    return reject(fmt::format("target ({:.1f}, {:.1f}, {:.1f}) mm collides: ", tip_mm.x(),
+                              tip_mm.y(), tip_mm.z()) +
                   *hit);
   }
   v.target.goal_q = *q;

@@ -32,7 +32,7 @@ namespace ephor::arm {
 struct ValidatorConfig {
   int image_width_px = 512;
   int image_height_px = 482;
-  double max_speed_mm_s = 300.0;  // the cap; also the speed of a command that asks for 0
+  double max_speed_mm_s = 300.0;     // the cap; also the speed of a command that asks for 0
   double max_tip_height_mm = 800.0;  // kKindPose: highest tool tip above the table, mm
 };
 

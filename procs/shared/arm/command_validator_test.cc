@@ -153,7 +153,8 @@ TEST_F(PoseGoalTest, BadPoseGoalsAreRefusedNamingTheProblem) {
   expect_rejected(pose_at(nan, 200.0, 120.0), "not finite");
   expect_rejected(pose_at(cell_.field_length_mm + 50.0, 200.0, 120.0), "outside the work cell");
   expect_rejected(pose_at(1000.0, 200.0, -10.0), "above the table");
-  expect_rejected(pose_at(1210.0, 900.0, 790.0), "out of the PUMA 560's reach");  // the far corner, high
+  expect_rejected(pose_at(1210.0, 900.0, 790.0),
+                  "out of the PUMA 560's reach");  // the far corner, high
   ArmCommand unknown = pose_at(1000.0, 200.0, 120.0);
   unknown.kind = 7;
   expect_rejected(unknown, "unknown goal kind 7");

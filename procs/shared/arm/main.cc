@@ -43,6 +43,7 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
+#include "common/motion/motion_planner.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
@@ -58,7 +59,6 @@
 #include "procs/shared/arm/command_validator.h"
 #include "procs/shared/arm/controlled_stop.h"
 #include "procs/shared/arm/execution_monitor.h"
-#include "common/motion/motion_planner.h"
 #include "procs/shared/arm/safety_gate.h"
 
 namespace {
@@ -103,7 +103,7 @@ class ArmProcess {
         next_trajectory_seq_(ephor::wall_us()) {}
 
   static ephor::arm::MotionPlannerConfig planner_config(const ephor::geometry::Workcell& cell,
-                                                       const Options& o) {
+                                                        const Options& o) {
     ephor::arm::MotionPlannerConfig c;
     c.max_speed_mm_s = o.max_speed_mm_s;
     c.cartesian_accel_mm_s2 = cell.tool_accel_mm_s2;
@@ -446,8 +446,9 @@ int main(int argc, char** argv) {
   try {
     if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
     const ephor::geometry::Workcell cell =
-        workcell_path.empty() ? ephor::geometry::Workcell{}
-                              : ephor::geometry::load_workcell_file(ephor::resolve_repo_path(workcell_path));
+        workcell_path.empty()
+            ? ephor::geometry::Workcell{}
+            : ephor::geometry::load_workcell_file(ephor::resolve_repo_path(workcell_path));
     if (!workcell_path.empty()) spdlog::info("work cell {}", workcell_path);
     const ephor::geometry::OverheadCamera camera;
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);

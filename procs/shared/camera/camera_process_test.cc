@@ -17,8 +17,8 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
-#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/camera_frame_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/task_register_t.hpp"
 #include "tests/integration/harness.h"
 

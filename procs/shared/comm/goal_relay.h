@@ -38,11 +38,11 @@
 // no motion_done: motion_done_t has no status for them, and the planner only waits for its newest
 // goal.
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
 #include <string>
-#include <array>
 #include <vector>
 
 namespace ephor::comm {
@@ -59,9 +59,9 @@ struct Goal {
   float u = 0.0f;             // kind image: target in the image, px
   float v = 0.0f;             // px
   float theta_rad = 0.0f;     // manipulator orientation in the image, rad
-  float max_speed_mm_s = 0.0f;     // end-effector speed cap, mm/s; 0 = the arm's default
-  int64_t source_frame_utime = 0;  // capture time of the frame behind the goal, us (passed on)
-  int32_t target_object = -1;      // object id served, -1 = none
+  float max_speed_mm_s = 0.0f;          // end-effector speed cap, mm/s; 0 = the arm's default
+  int64_t source_frame_utime = 0;       // capture time of the frame behind the goal, us (passed on)
+  int32_t target_object = -1;           // object id served, -1 = none
   std::array<double, 3> position_mm{};  // kind pose: tool tip in the work cell frame, mm
   std::array<double, 6> joints_rad{};   // kind joints: rad
 };

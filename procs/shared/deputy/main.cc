@@ -33,14 +33,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/launch/deputy_core.h"
+#include "common/launch/deputy_messages.h"
+#include "common/launch/process_usage.h"
 #include "common/lcm/bus.h"
 #include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "ephor/deputy_output_t.hpp"
-#include "common/launch/deputy_core.h"
-#include "common/launch/deputy_messages.h"
-#include "common/launch/process_usage.h"
 
 namespace {
 

@@ -11,8 +11,8 @@ namespace ephor {
 
 EPHOR_TO_JSON(header_t, utime, sender, seq)
 EPHOR_TO_JSON(shepherd_blob_t, u, v, area, u_min, v_min, u_max, v_max)
-EPHOR_TO_JSON(shepherd_blobs_t, utime, header, frame_index, mode, scan, threshold, processing_us, num_blobs,
-              blobs)
+EPHOR_TO_JSON(shepherd_blobs_t, utime, header, frame_index, mode, scan, threshold, processing_us,
+              num_blobs, blobs)
 EPHOR_TO_JSON(shepherd_vision_cmd_t, utime, header, paused, mode, scan, threshold)
 EPHOR_TO_JSON(shepherd_object_t, id, state, u, v, x_mm, y_mm, vu_px_s, vv_px_s, vx_mm_s, vy_mm_s,
               since_seen_s, area)
@@ -28,7 +28,8 @@ EPHOR_TO_JSON(arm_ack_t, utime, header, seq, goal_id, status, reason, planned_du
 EPHOR_TO_JSON(motion_done_t, utime, header, goal_id, seq, status, reason, attempts)
 EPHOR_TO_JSON(arm_state_t, utime, header, q, qd, x_mm, y_mm, z_mm, u, v, theta_rad, plane, moving,
               executing_seq, last_done_seq, speed_mm_s)
-EPHOR_TO_JSON(shepherd_sheep_truth_t, id, x_mm, y_mm, heading_rad, speed_mm_s, u, v, visible, on_field)
+EPHOR_TO_JSON(shepherd_sheep_truth_t, id, x_mm, y_mm, heading_rad, speed_mm_s, u, v, visible,
+              on_field)
 EPHOR_TO_JSON(shepherd_ground_truth_t, utime, header, frame_index, num_sheep, sheep, escapes, saves,
               sim_time_s)
 EPHOR_TO_JSON(shepherd_sim_cmd_t, utime, header, sheep, reset, seed)

@@ -165,43 +165,46 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
     std::lock_guard<std::mutex> lock(sh.mutex);
     sh.state->on_objects(std::move(objs), wall_us());
   });
-  bus.subscribe<shepherd_planner_status_t>(channels::kPlannerStatus, [&](const shepherd_planner_status_t& m) {
-    snap.put(channels::kPlannerStatus, m);
-    std::lock_guard<std::mutex> lock(sh.mutex);
-    sh.state->on_planner({m.planner, m.phase, m.target_object, m.intercept_u, m.intercept_v,
-                          m.intercept_time_s, m.planning_us, m.goal_id},
-                         wall_us());
-    if (!sh.planner_known && !m.planner.empty()) {
-      sh.controls.planner = m.planner;
-      sh.planner_known = true;
-    }
-  });
-  bus.subscribe<shepherd_planner_cmd_t>(channels::kPlannerCmd, [&](const shepherd_planner_cmd_t& m) {
-    snap.put(channels::kPlannerCmd, m);
-    std::lock_guard<std::mutex> lock(sh.mutex);
-    sh.controls.planner = m.planner;
-    sh.planner_known = true;
-  });
+  bus.subscribe<shepherd_planner_status_t>(
+      channels::kPlannerStatus, [&](const shepherd_planner_status_t& m) {
+        snap.put(channels::kPlannerStatus, m);
+        std::lock_guard<std::mutex> lock(sh.mutex);
+        sh.state->on_planner({m.planner, m.phase, m.target_object, m.intercept_u, m.intercept_v,
+                              m.intercept_time_s, m.planning_us, m.goal_id},
+                             wall_us());
+        if (!sh.planner_known && !m.planner.empty()) {
+          sh.controls.planner = m.planner;
+          sh.planner_known = true;
+        }
+      });
+  bus.subscribe<shepherd_planner_cmd_t>(channels::kPlannerCmd,
+                                        [&](const shepherd_planner_cmd_t& m) {
+                                          snap.put(channels::kPlannerCmd, m);
+                                          std::lock_guard<std::mutex> lock(sh.mutex);
+                                          sh.controls.planner = m.planner;
+                                          sh.planner_known = true;
+                                        });
   bus.subscribe<arm_state_t>(channels::kArmState, [&](const arm_state_t& m) {
     snap.put(channels::kArmState, m);
     std::lock_guard<std::mutex> lock(sh.mutex);
     sh.state->on_arm({m.u, m.v, m.theta_rad, m.z_mm, m.moving != 0, m.speed_mm_s}, wall_us());
   });
-  bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-    display::TruthView t;
-    t.escapes = m.escapes;
-    t.saves = m.saves;
-    t.sim_time_s = m.sim_time_s;
-    for (const auto& s : m.sheep)
-      t.sheep.push_back({s.id, s.u, s.v, s.visible != 0, s.on_field != 0});
-    snap.put(channels::kGroundTruth, m);
-    std::lock_guard<std::mutex> lock(sh.mutex);
-    if (!sh.sim_known) {  // nobody commanded the simulator yet: its herd as it is
-      sh.controls.sim.sheep = m.num_sheep;
-      sh.sim_known = true;
-    }
-    sh.state->on_truth(std::move(t), wall_us());
-  });
+  bus.subscribe<shepherd_ground_truth_t>(
+      channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
+        display::TruthView t;
+        t.escapes = m.escapes;
+        t.saves = m.saves;
+        t.sim_time_s = m.sim_time_s;
+        for (const auto& s : m.sheep)
+          t.sheep.push_back({s.id, s.u, s.v, s.visible != 0, s.on_field != 0});
+        snap.put(channels::kGroundTruth, m);
+        std::lock_guard<std::mutex> lock(sh.mutex);
+        if (!sh.sim_known) {  // nobody commanded the simulator yet: its herd as it is
+          sh.controls.sim.sheep = m.num_sheep;
+          sh.sim_known = true;
+        }
+        sh.state->on_truth(std::move(t), wall_us());
+      });
   bus.subscribe<shepherd_sim_cmd_t>(channels::kSimCmd, [&](const shepherd_sim_cmd_t& m) {
     snap.put(channels::kSimCmd, m);
     std::lock_guard<std::mutex> lock(sh.mutex);
@@ -253,8 +256,9 @@ void subscribe_all(Bus& bus, Shared& sh, Snapshot& snap) {
                            [&](const arm_ack_t& m) { snap.put(channels::kArmAck, m); });
   bus.subscribe<motion_done_t>(channels::kMotionDone,
                                [&](const motion_done_t& m) { snap.put(channels::kMotionDone, m); });
-  bus.subscribe<shepherd_display_box_t>(channels::kDisplayBox,
-                               [&](const shepherd_display_box_t& m) { snap.put(channels::kDisplayBox, m); });
+  bus.subscribe<shepherd_display_box_t>(
+      channels::kDisplayBox,
+      [&](const shepherd_display_box_t& m) { snap.put(channels::kDisplayBox, m); });
 }
 
 void update_rates(Bus& bus, Shared& sh) {
@@ -468,9 +472,10 @@ int main(int argc, char** argv) {
                  "footprint of the manipulator tip drawn on the table, mm (default 40)")
       ->check(CLI::Range(1.0, 500.0));
   int sim_seed = 1;
-  app.add_option("--sim-seed", sim_seed,
-                 "the simulator's seed, sent back unchanged in shepherd_sim_cmd_t (full state) until a "
-                 "SIM_CMD names another (default 1, ephor-sim's default)");
+  app.add_option(
+      "--sim-seed", sim_seed,
+      "the simulator's seed, sent back unchanged in shepherd_sim_cmd_t (full state) until a "
+      "SIM_CMD names another (default 1, ephor-sim's default)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
 

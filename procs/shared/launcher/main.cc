@@ -43,12 +43,12 @@
 
 #include "common/config/manifest.h"
 #include "common/config/text_proto.h"
+#include "common/launch/deputy_core.h"
+#include "common/launch/process_group.h"
+#include "common/launch/process_usage.h"
+#include "common/launch/usage_log.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
-#include "common/launch/deputy_core.h"
-#include "common/launch/process_usage.h"
-#include "common/launch/process_group.h"
-#include "common/launch/usage_log.h"
 
 namespace {
 

@@ -19,10 +19,10 @@
 #include "common/time/clock.h"
 #include "ephor/arm_cmd_t.hpp"
 #include "ephor/arm_goal_t.hpp"
+#include "ephor/sched_status_t.hpp"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/shepherd_objects_t.hpp"
-#include "ephor/sched_status_t.hpp"
 #include "procs/shared/monitor/run_monitor.h"
 
 int main(int argc, char** argv) {
@@ -47,17 +47,18 @@ int main(int argc, char** argv) {
     monitor::RunMonitor mon(scenario);
     std::map<std::string, std::pair<bool, int64_t>> hosts;  // host -> (rt, deadline misses)
 
-    bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-      monitor::Truth t;
-      t.utime = m.utime;
-      t.escapes = m.escapes;
-      t.saves = m.saves;
-      t.sim_time_s = m.sim_time_s;
-      for (const auto& s : m.sheep)
-        t.sheep.push_back({s.id, s.x_mm, s.y_mm, s.u, s.v, s.visible != 0, s.on_field != 0});
-      std::lock_guard<std::mutex> lock(mutex);
-      mon.on_truth(t);
-    });
+    bus.subscribe<shepherd_ground_truth_t>(
+        channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
+          monitor::Truth t;
+          t.utime = m.utime;
+          t.escapes = m.escapes;
+          t.saves = m.saves;
+          t.sim_time_s = m.sim_time_s;
+          for (const auto& s : m.sheep)
+            t.sheep.push_back({s.id, s.x_mm, s.y_mm, s.u, s.v, s.visible != 0, s.on_field != 0});
+          std::lock_guard<std::mutex> lock(mutex);
+          mon.on_truth(t);
+        });
     bus.subscribe<shepherd_blobs_t>(channels::kBlobs, [&](const shepherd_blobs_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
       mon.on_blobs(m.utime, m.header.utime, wall_us());
@@ -65,8 +66,8 @@ int main(int argc, char** argv) {
     bus.subscribe<shepherd_objects_t>(channels::kObjects, [&](const shepherd_objects_t& m) {
       std::vector<monitor::TrackedObject> objs;
       for (const auto& o : m.objects)
-        objs.push_back({o.id, o.state == shepherd_object_t::STATE_VISIBLE, o.state == shepherd_object_t::STATE_DEAD,
-                        o.x_mm, o.y_mm, o.u, o.v});
+        objs.push_back({o.id, o.state == shepherd_object_t::STATE_VISIBLE,
+                        o.state == shepherd_object_t::STATE_DEAD, o.x_mm, o.y_mm, o.u, o.v});
       std::lock_guard<std::mutex> lock(mutex);
       mon.on_objects(m.utime, m.header.utime, objs, wall_us());
     });

@@ -330,11 +330,11 @@ int main(int argc, char** argv) {
                                          objects, arm_state, planner_cmd, done, config);
     runtime.add_triggered("plan", std::chrono::nanoseconds(static_cast<int64_t>(deadline_ms * 1e6)),
                           [job] { (*job)(); });
-    bus.subscribe<ephor::shepherd_objects_t>(ephor::channels::kObjects,
-                                    [objects, &runtime](const ephor::shepherd_objects_t& msg) {
-                                      objects->put(msg);
-                                      runtime.trigger("plan");
-                                    });
+    bus.subscribe<ephor::shepherd_objects_t>(
+        ephor::channels::kObjects, [objects, &runtime](const ephor::shepherd_objects_t& msg) {
+          objects->put(msg);
+          runtime.trigger("plan");
+        });
     bus.subscribe<ephor::motion_done_t>(
         ephor::channels::kMotionDone,
         [done, objects, failures = std::make_shared<int64_t>(0)](const ephor::motion_done_t& msg) {

@@ -33,10 +33,11 @@ class Probe {
       std::lock_guard<std::mutex> lock(mutex_);
       goals_.push_back(m);
     });
-    bus_.subscribe<shepherd_planner_status_t>(channels::kPlannerStatus, [this](const shepherd_planner_status_t& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      status_ = m;
-    });
+    bus_.subscribe<shepherd_planner_status_t>(channels::kPlannerStatus,
+                                              [this](const shepherd_planner_status_t& m) {
+                                                std::lock_guard<std::mutex> lock(mutex_);
+                                                status_ = m;
+                                              });
     bus_.start();
   }
   std::vector<arm_goal_t> goals() {

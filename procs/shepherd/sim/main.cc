@@ -31,17 +31,17 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/arm/servo_messages.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
-#include "common/arm/servo_messages.h"
 #include "ephor/camera_frame_t.hpp"
-#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/shepherd_sim_cmd_t.hpp"
 #include "ephor/shepherd_tool_light_t.hpp"
 #include "procs/shepherd/sim/sim_config.h"
@@ -58,7 +58,7 @@ constexpr double kPhysicsStepS = 0.001;
 constexpr double kMaxLagS = 0.5;  // beyond this the simulation skips ahead instead of catching up
 
 ephor::shepherd_ground_truth_t to_message(const ephor::sim::GroundTruth& gt, int64_t utime,
-                                 int64_t frame_index) {
+                                          int64_t frame_index) {
   ephor::shepherd_ground_truth_t m;
   m.utime = utime;
   m.frame_index = frame_index;
@@ -180,34 +180,34 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(p.mutex);
           p.pending = std::move(*t);
         });
-    bus.subscribe<ephor::shepherd_sim_cmd_t>(ephor::channels::kSimCmd, [&p](const ephor::shepherd_sim_cmd_t& m) {
-      if (m.sheep < 0 || m.sheep > 64) {
-        ++p.commands_refused;
-        spdlog::warn("SIM_CMD ignored: sheep {} outside [0, 64]", m.sheep);
-        return;
-      }
-      std::lock_guard<std::mutex> lock(p.mutex);
-      const bool reset = m.reset && (!p.last_reset || m.seed != p.last_seed);
-      p.last_reset = m.reset;
-      p.last_seed = m.seed;
-      if (reset) {
-        p.sim.reset(static_cast<uint64_t>(m.seed));
-        p.last_sheep = -1;
-        spdlog::info("world reset with seed {}", m.seed);
-      }
-      if (m.sheep != p.last_sheep) {
-        p.sim.world().set_sheep_count(m.sheep);
-        p.last_sheep = m.sheep;
-      }
-    });
+    bus.subscribe<ephor::shepherd_sim_cmd_t>(
+        ephor::channels::kSimCmd, [&p](const ephor::shepherd_sim_cmd_t& m) {
+          if (m.sheep < 0 || m.sheep > 64) {
+            ++p.commands_refused;
+            spdlog::warn("SIM_CMD ignored: sheep {} outside [0, 64]", m.sheep);
+            return;
+          }
+          std::lock_guard<std::mutex> lock(p.mutex);
+          const bool reset = m.reset && (!p.last_reset || m.seed != p.last_seed);
+          p.last_reset = m.reset;
+          p.last_seed = m.seed;
+          if (reset) {
+            p.sim.reset(static_cast<uint64_t>(m.seed));
+            p.last_sheep = -1;
+            spdlog::info("world reset with seed {}", m.seed);
+          }
+          if (m.sheep != p.last_sheep) {
+            p.sim.world().set_sheep_count(m.sheep);
+            p.last_sheep = m.sheep;
+          }
+        });
 
-    bus.subscribe<ephor::shepherd_tool_light_t>(ephor::channels::kSimToolLight,
-                                       [&p](const ephor::shepherd_tool_light_t& m) {
-                                         std::lock_guard<std::mutex> lock(p.mutex);
-                                         if (p.sim.tool_light() != m.on)
-                                           spdlog::info("tool light {}", m.on ? "on" : "off");
-                                         p.sim.set_tool_light(m.on);
-                                       });
+    bus.subscribe<ephor::shepherd_tool_light_t>(
+        ephor::channels::kSimToolLight, [&p](const ephor::shepherd_tool_light_t& m) {
+          std::lock_guard<std::mutex> lock(p.mutex);
+          if (p.sim.tool_light() != m.on) spdlog::info("tool light {}", m.on ? "on" : "off");
+          p.sim.set_tool_light(m.on);
+        });
 
     p.wall0_us = ephor::wall_us();
     p.mono0_ns = ephor::mono_ns();

@@ -16,9 +16,9 @@
 #include "common/lcm/channels.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
-#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/shepherd_sim_cmd_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -62,11 +62,12 @@ TEST(SimProcess, PublishesFramesTruthAndServoStateAndObeysCommands) {
     seen.frames.emplace_back(m.frame_index, m.utime);
     seen.frame_bytes = m.size;
   });
-  bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-    std::lock_guard<std::mutex> lock(seen.mutex);
-    seen.truths.emplace_back(m.frame_index, m.utime);
-    seen.last_truth_sheep = m.num_sheep;
-  });
+  bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth,
+                                         [&](const shepherd_ground_truth_t& m) {
+                                           std::lock_guard<std::mutex> lock(seen.mutex);
+                                           seen.truths.emplace_back(m.frame_index, m.utime);
+                                           seen.last_truth_sheep = m.num_sheep;
+                                         });
   bus.subscribe<joint_state_t>(channels::kArmServo, [&](const joint_state_t& m) {
     std::lock_guard<std::mutex> lock(seen.mutex);
     ++seen.servo_count;

@@ -20,9 +20,9 @@
 #include <optional>
 #include <vector>
 
+#include "common/arm/arm_servo.h"
 #include "common/arm/puma560.h"
 #include "common/geometry/workcell.h"
-#include "common/arm/arm_servo.h"
 #include "procs/shepherd/sim/camera_renderer.h"
 #include "procs/shepherd/sim/world.h"
 

@@ -30,8 +30,8 @@
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
-#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/camera_frame_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_vision_cmd_t.hpp"
 #include "procs/shepherd/vision/vision_pipeline.h"
 

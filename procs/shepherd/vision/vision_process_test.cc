@@ -25,10 +25,10 @@
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
 #include "common/time/clock.h"
-#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/camera_frame_t.hpp"
-#include "ephor/task_register_t.hpp"
+#include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_vision_cmd_t.hpp"
+#include "ephor/task_register_t.hpp"
 #include "procs/shepherd/vision/synthetic_image.h"
 #include "procs/shepherd/vision/test_child_process.h"
 
@@ -52,8 +52,9 @@ class VisionProcessTest : public ::testing::Test {
   void SetUp() override {
     url_ = test_lcm_url();
     bus_ = std::make_unique<Bus>(url_, "test");
-    bus_->subscribe<shepherd_blobs_t>(channels::kBlobs,
-                             [this](const shepherd_blobs_t& m) { update([&] { blobs_.push_back(m); }); });
+    bus_->subscribe<shepherd_blobs_t>(channels::kBlobs, [this](const shepherd_blobs_t& m) {
+      update([&] { blobs_.push_back(m); });
+    });
     bus_->subscribe<task_register_t>(channels::kTaskRegister, [this](const task_register_t& m) {
       if (m.process == "vision" && m.task == "vision") update([&] { ready_ = true; });
     });

@@ -58,10 +58,11 @@ TEST_P(VisionSimTest, BlobsMatchTheSimulatorsMarks) {
   std::condition_variable cv;
   std::map<int64_t, shepherd_ground_truth_t> truth;
   std::map<int64_t, shepherd_blobs_t> blobs;
-  bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-    std::lock_guard<std::mutex> lock(mutex);
-    truth[m.frame_index] = m;
-  });
+  bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth,
+                                         [&](const shepherd_ground_truth_t& m) {
+                                           std::lock_guard<std::mutex> lock(mutex);
+                                           truth[m.frame_index] = m;
+                                         });
   bus.subscribe<shepherd_blobs_t>(channels::kBlobs, [&](const shepherd_blobs_t& m) {
     {
       std::lock_guard<std::mutex> lock(mutex);

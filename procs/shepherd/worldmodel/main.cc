@@ -90,7 +90,8 @@ ephor::shepherd_objects_t to_message(const WorldModel& wm, int64_t frame_index) 
 // One job of "associate": the newest blobs -> objects.
 class Associate {
  public:
-  Associate(ephor::Bus& bus, WorldModel& wm, std::shared_ptr<ephor::Mailbox<ephor::shepherd_blobs_t>> box)
+  Associate(ephor::Bus& bus, WorldModel& wm,
+            std::shared_ptr<ephor::Mailbox<ephor::shepherd_blobs_t>> box)
       : bus_(bus), wm_(wm), box_(std::move(box)) {}
 
   void operator()() {
@@ -194,10 +195,10 @@ int main(int argc, char** argv) {
                           std::chrono::nanoseconds(static_cast<int64_t>(deadline_ms * 1e6)),
                           Associate(bus, wm, box));
     bus.subscribe<ephor::shepherd_blobs_t>(ephor::channels::kBlobs,
-                                  [box, &runtime](const ephor::shepherd_blobs_t& msg) {
-                                    box->put(msg);
-                                    runtime.trigger("associate");
-                                  });
+                                           [box, &runtime](const ephor::shepherd_blobs_t& msg) {
+                                             box->put(msg);
+                                             runtime.trigger("associate");
+                                           });
     runtime.start();
     spdlog::info("tracking blobs from {} -> {}", ephor::channels::kBlobs,
                  ephor::channels::kObjects);

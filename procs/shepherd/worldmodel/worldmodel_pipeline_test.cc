@@ -14,9 +14,9 @@
 #include "common/arm/arm_workcell.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
-#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
+#include "ephor/shepherd_ground_truth_t.hpp"
 #include "ephor/shepherd_objects_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -30,11 +30,13 @@ using std::chrono::seconds;
 class Scorer {
  public:
   Scorer() : bus_("", "scorer") {
-    bus_.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth, [this](const shepherd_ground_truth_t& m) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      truth_[m.utime] = m;
-      while (truth_.size() > 300) truth_.erase(truth_.begin());
-    });
+    bus_.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth,
+                                            [this](const shepherd_ground_truth_t& m) {
+                                              std::lock_guard<std::mutex> lock(mutex_);
+                                              truth_[m.utime] = m;
+                                              while (truth_.size() > 300)
+                                                truth_.erase(truth_.begin());
+                                            });
     bus_.subscribe<joint_state_t>(channels::kArmServo, [this](const joint_state_t& m) {
       std::lock_guard<std::mutex> lock(mutex_);
       q_ = arm::Joints(m.q);
