@@ -46,4 +46,17 @@ std::optional<BoardPlacement> placement_from_survey(const BoardSpec& board,
   return p;
 }
 
+std::optional<BoardPlacement> placement_from_survey(const BoardSpec& board,
+                                                    const double (&board_mm)[3][2],
+                                                    const double (&world_mm)[3][3],
+                                                    std::string& why) {
+  std::array<Eigen::Vector2d, 3> b;
+  std::array<Eigen::Vector3d, 3> w;
+  for (int i = 0; i < 3; ++i) {
+    b[i] = Eigen::Vector2d(board_mm[i][0], board_mm[i][1]);
+    w[i] = Eigen::Vector3d(world_mm[i][0], world_mm[i][1], world_mm[i][2]);
+  }
+  return placement_from_survey(board, b, w, why);
+}
+
 }  // namespace ephor::catching

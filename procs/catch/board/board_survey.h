@@ -25,4 +25,10 @@ std::optional<BoardPlacement> placement_from_survey(const BoardSpec& board,
                                                     const std::array<Eigen::Vector3d, 3>& world_mm,
                                                     std::string& why);
 
+// The same from catch_survey_t's arrays (board_mm[3][2], world_mm[3][3]).
+std::optional<BoardPlacement> placement_from_survey(const BoardSpec& board,
+                                                    const double (&board_mm)[3][2],
+                                                    const double (&world_mm)[3][3],
+                                                    std::string& why);
+
 }  // namespace ephor::catching

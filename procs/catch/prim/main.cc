@@ -91,14 +91,8 @@ int main(int argc, char** argv) {
     const int64_t run_id = wall_us();  // goal ids unique across restarts
 
     bus.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
-      std::array<Eigen::Vector2d, 3> b;
-      std::array<Eigen::Vector3d, 3> w;
-      for (int i = 0; i < 3; ++i) {
-        b[i] = Eigen::Vector2d(m.board_mm[i][0], m.board_mm[i][1]);
-        w[i] = Eigen::Vector3d(m.world_mm[i][0], m.world_mm[i][1], m.world_mm[i][2]);
-      }
       std::string why;
-      const auto placement = placement_from_survey(board, b, w, why);
+      const auto placement = placement_from_survey(board, m.board_mm, m.world_mm, why);
       std::lock_guard<std::mutex> lock(mutex);
       if (!placement) {
         ++bad_messages;

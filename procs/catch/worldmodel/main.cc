@@ -134,14 +134,8 @@ int main(int argc, char** argv) {
           board_to_camera = pose;
         });
     bus.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
-      std::array<Eigen::Vector2d, 3> b;
-      std::array<Eigen::Vector3d, 3> w;
-      for (int i = 0; i < 3; ++i) {
-        b[i] = Eigen::Vector2d(m.board_mm[i][0], m.board_mm[i][1]);
-        w[i] = Eigen::Vector3d(m.world_mm[i][0], m.world_mm[i][1], m.world_mm[i][2]);
-      }
       std::string why;
-      const auto fitted = placement_from_survey(board, b, w, why);
+      const auto fitted = placement_from_survey(board, m.board_mm, m.world_mm, why);
       if (!fitted) {
         ++bad_messages;
         spdlog::warn("CATCH_SURVEY ignored: {}", why);
