@@ -47,10 +47,10 @@ namespace {
 // re-aim at most every 250 ms (the arm plans each new goal from rest, so
 // every re-aim costs it time), for a change of at least 15 mm or half a sigma.
 ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
-                                          double commit_ahead_s) {
+                                          double commit_ahead_s, double reaim_ms) {
   p.max_sigma_mm = 150.0;
   p.commit_ahead_s = commit_ahead_s;
-  p.min_interval_us = 250'000;
+  p.min_interval_us = static_cast<int64_t>(reaim_ms * 1e3);
   p.resend_min_mm = 15.0;
   p.resend_sigma_fraction = 0.5;
   p.refresh_min_mm = 5.0;
@@ -68,12 +68,16 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
-  double duration_s = 0.0, commit_ahead_s = 0.6;
+  double duration_s = 0.0, commit_ahead_s = 0.6, reaim_ms = 250.0;
   app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
   app.add_option("--commit-ahead-s", commit_ahead_s,
                  "chase a predicted catch only when it is at most this far ahead, s (the cup "
                  "waits at the ready point before; default 0.6)")
       ->check(CLI::Range(0.05, 10.0));
+  app.add_option(
+         "--reaim-ms", reaim_ms,
+         "at most one new goal per this many ms (each makes the arm plan anew; default 250)")
+      ->check(CLI::Range(10.0, 10000.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
@@ -100,8 +104,9 @@ int main(int argc, char** argv) {
         return;
       }
       if (!planner) {
-        planner.emplace(board, *placement,
-                        tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s));
+        planner.emplace(
+            board, *placement,
+            tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s, reaim_ms));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
