@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
       if (!model) {
         if (!board_to_camera || !placement) return;  // not initialised yet
         BallWorldModelParams params;
-        params.acquire_max_y_mm = board.height_mm / 3.0;  // released at the top
+        params.acquire_max_y_mm = 150.0;  // balls are released 30 mm from the top
         model.emplace(board, *placement, intrinsics, *board_to_camera, params);
         spdlog::info("initialised: tracking");
       }
