@@ -20,7 +20,7 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/catch_world_t.hpp"
 #include "ephor/sched_status_t.hpp"
-#include "procs/catch/board/catch_channels.h"
+#include "common/catch/catch_channels.h"
 #include "procs/catch/monitor/catch_summary.h"
 
 namespace {

@@ -34,9 +34,9 @@
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "procs/catch/board/board_file.h"
-#include "procs/catch/board/board_survey.h"
-#include "procs/catch/board/catch_channels.h"
+#include "common/catch/board_file.h"
+#include "common/catch/board_survey.h"
+#include "common/catch/catch_channels.h"
 #include "procs/catch/prim/catch_planner.h"
 
 namespace {
@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
   double duration_s = 0.0, commit_ahead_s = 0.6, reaim_ms = 250.0;
-  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--commit-ahead-s", commit_ahead_s,
                  "chase a predicted catch only when it is at most this far ahead, s (the cup "
                  "waits at the ready point before; default 0.6)")

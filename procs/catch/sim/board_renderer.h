@@ -46,7 +46,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 #include "procs/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {

@@ -19,7 +19,7 @@
 //   (wedged or balanced) is stalled; the world stops moving it.
 //
 // Units: the API is in mm and s, in the board frame B of
-// procs/catch/board/board_model.h. Box2D's length unit is 10 mm inside: its
+// common/catch/board_model.h. Box2D's length unit is 10 mm inside: its
 // fixed tolerances (linear slop 0.005 units, edge skin 0.01 units) are tuned
 // for bodies of 0.1 to 10 units, and would be 5 mm and 10 mm at one unit per
 // metre - a quarter of the ball's radius. At 10 mm per unit they are 0.05 mm
@@ -39,7 +39,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 #include "procs/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {

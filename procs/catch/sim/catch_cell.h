@@ -5,7 +5,7 @@
 // capsules for the camera, and the oracle - could an arm at rest at the
 // ready pose, told a ball's catch point at release, be there in time?
 //
-// Frames: W of procs/catch/board/board_model.h, which is F of the work cell
+// Frames: W of common/catch/board_model.h, which is F of the work cell
 // (common/geometry/workcell.h); mm, rad.
 
 #include <Eigen/Core>

@@ -3,7 +3,7 @@
 //
 // After the ball's centre crosses the board's bottom edge (BoardExit) it
 // flies ballistically in W under full g (as ballistic_crossing() in
-// procs/catch/board/board_model.h). The cup is an open cylinder, opening up,
+// common/catch/board_model.h). The cup is an open cylinder, opening up,
 // its axis vertical through the opening's centre (the tool tip).
 //
 // The rule: the ball is caught when
@@ -28,7 +28,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 #include "procs/catch/sim/board_world.h"
 
 namespace ephor::catching {

@@ -11,7 +11,7 @@
 // every run and machine that shares the standard library (std::mt19937_64 and
 // the uniform distributions of libstdc++).
 //
-// Frames and units are those of procs/catch/board/board_model.h: lengths in
+// Frames and units are those of common/catch/board_model.h: lengths in
 // mm, B the board frame (z out of the face), W the work cell (z up), C the
 // camera (OpenCV pinhole). The scenario is a plain value: tests and tools may
 // edit its fields (remove the pegs, flatten the lighting) before handing it to
@@ -23,7 +23,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching {
 

@@ -55,9 +55,9 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
-#include "procs/catch/board/board_file.h"
-#include "procs/catch/board/board_model.h"
-#include "procs/catch/board/catch_channels.h"
+#include "common/catch/board_file.h"
+#include "common/catch/board_model.h"
+#include "common/catch/catch_channels.h"
 #include "procs/catch/sim/ball_sequence.h"
 #include "procs/catch/sim/board_renderer.h"
 #include "procs/catch/sim/board_world.h"
@@ -183,7 +183,7 @@ int main(int argc, char** argv) {
                  "arm comes from its park pose to the ready point; default 6)")
       ->check(CLI::Range(0.0, 600.0));
   app.add_option("--workcell", workcell_path, "work cell file (common/geometry/workcell.proto)");
-  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
+  app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   app.add_option("--write-png", png_path,
                  "render the first frame with a ball to this PNG and exit");

@@ -20,7 +20,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching {
 

@@ -9,7 +9,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "procs/catch/board/board_file.h"
+#include "common/catch/board_file.h"
 
 namespace ephor::catching {
 namespace {

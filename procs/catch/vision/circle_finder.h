@@ -31,7 +31,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 #include "procs/catch/vision/board_pose_estimator.h"
 
 namespace ephor::catching {

@@ -43,9 +43,9 @@
 #include "ephor/catch_ball_t.hpp"
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "procs/catch/board/board_file.h"
-#include "procs/catch/board/camera_file.h"
-#include "procs/catch/board/catch_channels.h"
+#include "common/catch/board_file.h"
+#include "common/catch/camera_file.h"
+#include "common/catch/catch_channels.h"
 #include "procs/catch/vision/board_pose_estimator.h"
 #include "procs/catch/vision/circle_finder.h"
 #include "procs/catch/vision/motion_centroid.h"
@@ -108,8 +108,8 @@ int main(int argc, char** argv) {
               windows_text;
   double duration_s = 0.0, window_margin_px = 24.0;
   bool no_window = false;
-  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
-  app.add_option("--camera", camera_path, "camera file (procs/catch/board/camera.proto)");
+  app.add_option("--board", board_path, "board file (common/catch/board.proto)");
+  app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
   app.add_option(
       "--circle-windows", windows_text,
       "the operator's windows of interest around the four circles: 'u0,v0,u1,v1;...' "

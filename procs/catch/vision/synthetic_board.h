@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching {
 

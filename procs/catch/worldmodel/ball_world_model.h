@@ -21,7 +21,7 @@
 // plane near the edge.
 //
 // Times: capture utime (us, any clock the caller keeps increasing). Frames
-// and units as in procs/catch/board/board_model.h. Not thread-safe; one
+// and units as in common/catch/board_model.h. Not thread-safe; one
 // owner (the process's task loop).
 
 #include <cstdint>
@@ -30,7 +30,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 #include "procs/catch/worldmodel/ball_kalman_filter.h"
 #include "procs/catch/worldmodel/ball_measurement_gate.h"
 #include "procs/catch/worldmodel/board_ray.h"

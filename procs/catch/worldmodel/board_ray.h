@@ -11,7 +11,7 @@
 // face itself would place the ball too far from the camera along the ray,
 // an error of r * |ray_xy| / |ray_z| in the board plane (see the test).
 //
-// Frames and units as in procs/catch/board/board_model.h: lengths in mm,
+// Frames and units as in common/catch/board_model.h: lengths in mm,
 // pixels with the origin at the centre of the top-left pixel. Distortion
 // (OpenCV's k1 k2 p1 p2 [k3 ...]) is removed with cv::undistortPoints when
 // the intrinsics have any non-zero coefficient.
@@ -23,7 +23,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching {
 

@@ -25,7 +25,7 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching {
 

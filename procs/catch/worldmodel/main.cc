@@ -33,10 +33,10 @@
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "procs/catch/board/board_file.h"
-#include "procs/catch/board/board_survey.h"
-#include "procs/catch/board/camera_file.h"
-#include "procs/catch/board/catch_channels.h"
+#include "common/catch/board_file.h"
+#include "common/catch/board_survey.h"
+#include "common/catch/camera_file.h"
+#include "common/catch/catch_channels.h"
 #include "procs/catch/worldmodel/ball_world_model.h"
 
 namespace {
@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "worldmodel");
   std::string board_path = "deploy/catch/board.pbtxt", camera_path = "deploy/catch/camera.pbtxt";
   double duration_s = 0.0;
-  app.add_option("--board", board_path, "board file (procs/catch/board/board.proto)");
-  app.add_option("--camera", camera_path, "camera file (procs/catch/board/camera.proto)");
+  app.add_option("--board", board_path, "board file (common/catch/board.proto)");
+  app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "procs/catch/board/board_model.h"
+#include "common/catch/board_model.h"
 
 namespace ephor::catching::testing {
 

@@ -1,4 +1,4 @@
-#include "procs/catch/board/camera_file.h"
+#include "common/catch/camera_file.h"
 
 #include <cmath>
 #include <fstream>
@@ -7,7 +7,7 @@
 #include <google/protobuf/text_format.h>
 
 #include "common/config/text_proto.h"
-#include "procs/catch/board/camera.pb.h"
+#include "common/catch/camera.pb.h"
 
 namespace ephor::catching {
 namespace {

@@ -1,4 +1,4 @@
-#include "procs/catch/board/board_survey.h"
+#include "common/catch/board_survey.h"
 
 #include <cmath>
 

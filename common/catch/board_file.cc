@@ -1,4 +1,4 @@
-#include "procs/catch/board/board_file.h"
+#include "common/catch/board_file.h"
 
 #include <cmath>
 #include <fstream>
@@ -7,7 +7,7 @@
 #include <google/protobuf/text_format.h>
 
 #include "common/config/text_proto.h"
-#include "procs/catch/board/board.pb.h"
+#include "common/catch/board.pb.h"
 
 namespace ephor::catching {
 namespace {

@@ -1,4 +1,4 @@
-#include "procs/catch/board/board_file.h"
+#include "common/catch/board_file.h"
 
 #include <cstdio>
 #include <limits>
@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "common/config/text_proto.h"
-#include "procs/catch/board/camera_file.h"
+#include "common/catch/camera_file.h"
 
 namespace ephor::catching {
 namespace {
