@@ -6,7 +6,7 @@
 //
 //   ephor-bench-planner [--minutes 10] [--seeds 3] [--max-sheep 8]
 //                       [--lag-s 0.15] [--hide-mm 150] [--arm point|puma]
-//                       [--sheep-speed 30] [--json FILE] [--trace-seed N]
+//                       [--sheep-speed 8] [--json FILE] [--trace-seed N]
 //   ephor-bench-planner --start GT.jsonl [--minutes 2] [--arm point|puma] ...
 //
 // --arm point: the tool is a point moving straight at --arm-speed (300 mm/s,
@@ -73,7 +73,7 @@ struct Options {
   double lag_s = 0.15;
   double hide_mm = 150.0;
   std::string arm = "point";
-  double sheep_speed_mm_s = 30.0;
+  double sheep_speed_mm_s = 8.0;  // the paper's (003, 4.1); 30 is a stress setting
   double base_yaw_deg = 0.0;      // the PUMA's mounting, Workcell::base_yaw_rad in degrees
   double arm_speed_mm_s = 300.0;  // the point's speed, or the PUMA's tool-speed cap
   int trace_seed = 0;             // runs with this seed print their goals and escapes (0: none)

@@ -45,7 +45,7 @@ struct KinematicFieldConfig {
   geometry::Workcell workcell;
   int sheep = 4;
   uint32_t seed = 7;
-  double sheep_speed_mm_s = 30.0;
+  double sheep_speed_mm_s = 8.0;
   double sheep_speed_jitter = 0.2;  // each sheep's speed is uniform in speed * (1 +- jitter)
   double sheep_half_length_mm = 114.5;
   double sheep_half_width_mm = 44.5;

@@ -118,13 +118,13 @@ int main(int argc, char** argv) {
   ephor::add_process_flags(app, args, "sim");
   int sheep = 4;
   uint64_t seed = 1;
-  double fps = 30.0, speed = 30.0, noise = 2.5, reentry = 5.0, duration_s = 0.0;
+  double fps = 30.0, speed = 8.0, noise = 2.5, reentry = 5.0, duration_s = 0.0;
   std::string config_path, pgm_path;
   app.add_option("--sheep", sheep, "sheep on the field (default 4)")->check(CLI::Range(0, 64));
   app.add_option("--seed", seed, "random seed of the world and camera noise (default 1)");
   app.add_option("--fps", fps, "camera frames per second (default 30)")
       ->check(CLI::Range(0.1, 1000.0));
-  app.add_option("--speed-mm-s", speed, "nominal sheep speed, mm/s (default 30)")
+  app.add_option("--speed-mm-s,--sheep-speed", speed, "nominal sheep speed, mm/s (default 8, the paper's; 30 is a stress setting)")
       ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--noise", noise, "camera pixel noise sigma, grey levels (default 2.5)")
       ->check(CLI::Range(0.0, 50.0));

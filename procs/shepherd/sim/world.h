@@ -38,7 +38,7 @@ struct WorldConfig {
   uint64_t seed = 1;
 
   // Each sheep drives at speed_mm_s * (1 + speed_spread * U(-1, 1)), fixed per sheep.
-  double speed_mm_s = 30.0;
+  double speed_mm_s = 8.0;
   double speed_spread = 0.2;
   // Slow heading wander (the paper's Lego sheep did not drive quite straight):
   // the turn rate is an Ornstein-Uhlenbeck process with this standard deviation

@@ -1,7 +1,8 @@
 // ephor-bench-predict: the paper's Figure 21 experiment and the 180-degree
 // turn response (paper 003, section 4.3) on synthetic sheep tracks.
 //
-// A sheep walks a straight line at 30 mm/s +- 20 % (uniform, per run) in a
+// A sheep walks a straight line at 8 mm/s +- 20 % (uniform, per run; the
+// paper's speed, section 4.1; --sheep-speed 30 is the stress setting) in a
 // random direction; the simulator's overhead camera sees its mark (52 mm up)
 // with 0.2 px Gaussian centroid noise per axis at 30 Hz. The double filter
 // runs on the pixel measurements (as in the world model). After it has
@@ -22,7 +23,7 @@
 // Turn response: after 10 s straight, the sheep turns 180 degrees; frames
 // until the filtered velocity's component along the old heading is < 0.
 //
-//   ephor-bench-predict [--json FILE] [--runs N] [--seed S]
+//   ephor-bench-predict [--json FILE] [--runs N] [--seed S] [--sheep-speed 8]
 
 #include <algorithm>
 #include <chrono>
@@ -52,6 +53,8 @@ constexpr double kFrameS = 1.0 / 30.0;
 constexpr double kMarkHeightMm = 52.0;
 constexpr double kNoisePx = 0.2;
 constexpr double kSettleS = 10.0;
+// Nominal sheep speed, mm/s: set once from --sheep-speed before any run.
+double nominal_speed_mm_s = 8.0;
 const double kHorizonsS[] = {1.0, 2.0, 4.0, 8.0, 16.0};
 
 struct Config {
@@ -73,7 +76,7 @@ Track random_track(std::mt19937& rng, double wander_rad_s, int frames) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
   std::normal_distribution<double> n01(0.0, 1.0);
-  const double speed = 30.0 * (1.0 + 0.2 * unit(rng));
+  const double speed = nominal_speed_mm_s * (1.0 + 0.2 * unit(rng));
   double heading = angle(rng);
   const ephor::geometry::Workcell cell;
   // Start so that the sheep is near the field centre when the prediction is
@@ -233,6 +236,8 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "write the results as JSON here");
   app.add_option("--runs", runs, "runs per horizon (the paper: 6)")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "random seed");
+  app.add_option("--sheep-speed", nominal_speed_mm_s, "nominal sheep speed, mm/s (default 8)")
+      ->check(CLI::Range(0.1, 1000.0));
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -243,7 +248,8 @@ int main(int argc, char** argv) {
     };
     nlohmann::json out;
     out["experiment"] =
-        "paper 003 figure 21: straight-line sheep 30 mm/s +-20 %, 0.2 px noise, 30 Hz, settle 10 s";
+        "paper 003 figure 21: straight-line sheep " + std::to_string(nominal_speed_mm_s) +
+        " mm/s +-20 %, 0.2 px noise, 30 Hz, settle 10 s";
     out["runs"] = runs;
     out["seed"] = seed;
     out["horizons_s"] = std::vector<double>(std::begin(kHorizonsS), std::end(kHorizonsS));
