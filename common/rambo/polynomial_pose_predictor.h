@@ -1,0 +1,47 @@
+#pragma once
+// The paper's predictor (section 6): a polynomial of time fitted by least
+// squares to each of the six pose coordinates (x, y, z in mm; yaw, pitch,
+// roll in rad, unwrapped along the sequence), extrapolated to the future.
+// Uncertainty: the fit's residual variance propagated through the
+// coefficients' covariance, sigma^2 phi(t)^T (A^T A)^-1 phi(t) per
+// coordinate (zero when the fit is exact or has no spare samples).
+//
+// Limits (why the rigid-body model exists): Euler angles are singular at
+// pitch = +-90 deg, where a tumbling body's yaw and roll swing fast, and a
+// polynomial cannot follow a torque-free tumble (non-constant twist) for
+// long.
+
+#include <array>
+
+#include <Eigen/Core>
+
+#include "common/rambo/pose_predictor.h"
+
+namespace ephor::rambo {
+
+class PolynomialPosePredictor : public PosePredictor {
+ public:
+  // degree: 0..5 (the paper does not say; 2 = constant acceleration).
+  explicit PolynomialPosePredictor(int degree = 2);
+
+  const char* name() const override { return "polynomial"; }
+  bool fit(const std::vector<PoseSample>& samples, std::string* why) override;
+  bool fitted() const override { return fitted_; }
+  PosePrediction predict(double t_s) const override;
+
+  int degree() const { return degree_; }
+  // Coordinate c (0..5: x, y, z, yaw, pitch, roll) at t_s, and its sigma.
+  double coordinate(int c, double t_s, double* sigma = nullptr) const;
+
+ private:
+  Eigen::VectorXd basis(double t_s) const;
+
+  int degree_;
+  bool fitted_ = false;
+  double t_ref_s_ = 0.0, t_scale_s_ = 1.0;  // basis in (t - t_ref) / t_scale for conditioning
+  std::array<Eigen::VectorXd, 6> coeff_;
+  std::array<double, 6> residual_var_{};
+  Eigen::MatrixXd ata_inv_;
+};
+
+}  // namespace ephor::rambo
