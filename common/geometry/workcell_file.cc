@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
 #include "common/geometry/workcell.pb.h"
 
@@ -41,6 +42,10 @@ Workcell load_workcell_file(const std::string& path) {
   take(file.has_tool_accel_mm_s2(), file.tool_accel_mm_s2(), "tool_accel_mm_s2",
        &cell.tool_accel_mm_s2, true);
   return cell;
+}
+
+Workcell workcell_from_flag(const std::string& path) {
+  return path.empty() ? Workcell{} : load_workcell_file(resolve_repo_path(path));
 }
 
 }  // namespace ephor::geometry

@@ -13,4 +13,11 @@ namespace ephor::geometry {
 // out of range (sizes and tool length must be > 0).
 Workcell load_workcell_file(const std::string& path);
 
+// What a process's --workcell flag means: an empty path is the compiled-in
+// default (the shepherding field of workcell.h); a relative path is looked up
+// from the working directory, then the repository (resolve_repo_path). Every
+// process of a system gets the same file from its manifest, so the work cell
+// comes from one place.
+Workcell workcell_from_flag(const std::string& path);
+
 }  // namespace ephor::geometry

@@ -445,10 +445,7 @@ int main(int argc, char** argv) {
 
   try {
     if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
-    const ephor::geometry::Workcell cell =
-        workcell_path.empty()
-            ? ephor::geometry::Workcell{}
-            : ephor::geometry::load_workcell_file(ephor::resolve_repo_path(workcell_path));
+    const ephor::geometry::Workcell cell = ephor::geometry::workcell_from_flag(workcell_path);
     if (!workcell_path.empty()) spdlog::info("work cell {}", workcell_path);
     const ephor::geometry::OverheadCamera camera;
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);

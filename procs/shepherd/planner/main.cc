@@ -11,9 +11,9 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +23,8 @@
 
 #include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
+#include "common/config/repo_paths.h"
+#include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -37,20 +39,20 @@
 #include "ephor/shepherd_planner_cmd_t.hpp"
 #include "ephor/shepherd_planner_status_t.hpp"
 #include "procs/shepherd/planner/planner.h"
+#include "procs/shepherd/planner/workcell_agreement.h"
 
 namespace {
 
 using ephor::calibration::FieldCalibration;
 namespace planner = ephor::planner;
 
-// The repository: $EPHOR_SOURCE_DIR, else two levels above this executable
-// (build/bin/ephor-planner).
-std::filesystem::path repo_dir() {
-  if (const char* env = std::getenv("EPHOR_SOURCE_DIR"); env != nullptr && *env != '\0') return env;
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) return ".";
-  return exe.parent_path().parent_path().parent_path();
+// The plane ARM_STATE says the tool rests on: none while moving or before
+// the first completed motion.
+std::optional<planner::Plane> arm_plane(const ephor::arm_state_t& arm) {
+  if (arm.moving) return std::nullopt;
+  if (arm.plane == ephor::arm_goal_t::PLANE_OBJECT) return planner::Plane::kObject;
+  if (arm.plane == ephor::arm_goal_t::PLANE_ELEVATION) return planner::Plane::kElevation;
+  return std::nullopt;
 }
 
 ephor::calibration::Plane to_calibration_plane(planner::Plane p) {
@@ -99,6 +101,7 @@ class PlanJob {
         calibration_(std::move(calibration)),
         arm_model_(arm_model),
         workcell_(workcell),
+        agreement_(workcell),
         objects_(std::move(objects)),
         arm_state_(std::move(arm_state)),
         planner_cmd_(std::move(planner_cmd)),
@@ -125,6 +128,19 @@ class PlanJob {
     scene.now_s = static_cast<double>(start_ns) * 1e-9;
     scene.arm = arm_model_;
     if (const auto arm = arm_state_->latest()) {
+      if (const auto message = agreement_.update(arm_plane(*arm), static_cast<double>(arm->z_mm))) {
+        if (agreement_.agrees()) {
+          spdlog::info("{}", *message);
+        } else {
+          spdlog::error("{}", *message);
+        }
+      }
+      if (!agreement_.agrees()) {  // no goals against another work cell
+        planner::PlannerStatus st = planner_->status();
+        st.phase = "workcell mismatch";
+        publish_status(st, objects->utime, 0.0f);
+        return;
+      }
       if (std::isfinite(arm->x_mm) && std::isfinite(arm->y_mm) && std::isfinite(arm->z_mm)) {
         scene.arm.x_mm = static_cast<double>(arm->x_mm);
         scene.arm.y_mm = static_cast<double>(arm->y_mm);
@@ -265,6 +281,7 @@ class PlanJob {
   FieldCalibration calibration_;
   planner::ArmModel arm_model_;
   ephor::geometry::Workcell workcell_;
+  planner::WorkcellAgreement agreement_;
   std::shared_ptr<ephor::Mailbox<ephor::shepherd_objects_t>> objects_;
   int64_t stale_until_utime_ = INT64_MIN;  // see DoneQueue::Done::objects_utime
   std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state_;
@@ -297,6 +314,10 @@ int main(int argc, char** argv) {
                  "end-effector speed the planner assumes when timing intercepts, mm/s "
                  "(goals ask for the arm's default speed)")
       ->check(CLI::Range(1.0, 5000.0));
+  std::string workcell_path;
+  app.add_option("--workcell", workcell_path,
+                 "work cell file (common/geometry/workcell.proto), the same file the manifest "
+                 "gives ephor-arm and ephor-sim; default: the shepherding field");
   app.add_option("--calibration", calibration_path,
                  "image-to-field calibration (Protobuf text); default "
                  "deploy/calibration/sim.pbtxt in the repository");
@@ -314,10 +335,19 @@ int main(int argc, char** argv) {
   arm_model.y_mm = config.park_y_mm;
 
   try {
-    if (calibration_path.empty())
-      calibration_path = (repo_dir() / "deploy" / "calibration" / "sim.pbtxt").string();
+    if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
     auto calibration = FieldCalibration::load(calibration_path);
     spdlog::info("calibration {} ({})", calibration_path, calibration.source());
+    config.workcell = ephor::geometry::workcell_from_flag(workcell_path);
+    if (!workcell_path.empty()) spdlog::info("work cell {}", workcell_path);
+    if (const std::string why = planner::calibration_disagreement(
+            config.workcell, calibration.plane_z_mm(ephor::calibration::Plane::kObject),
+            calibration.plane_z_mm(ephor::calibration::Plane::kElevation));
+        !why.empty()) {
+      spdlog::error("calibration {} does not fit the work cell {}: {}", calibration_path,
+                    workcell_path.empty() ? "(default)" : workcell_path, why);
+      return 2;
+    }
 
     ephor::Bus bus(args.lcm_url, args.name);
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});

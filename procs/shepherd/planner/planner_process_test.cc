@@ -193,5 +193,76 @@ TEST(PlannerProcess, SwitchesPlannerOnPlannerCmd) {
   EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
 }
 
+// Issue 13: an arm serving another work cell (its elevation plane 50 mm
+// lower) is noticed from ARM_STATE: the planner says so once and sends no
+// goals, instead of resending them forever; when the arm rests on the
+// planner's plane again, planning resumes.
+TEST(PlannerProcess, StopsPlanningWhileTheArmServesAnotherWorkcell) {
+  Probe probe;
+  Processes procs;
+  procs.start("planner", bin("ephor-planner"),
+              {"--no-mlock", "--planner", "multi", "--workcell", "deploy/shepherd/workcell.pbtxt"},
+              {{"EPHOR_PROCESS", "planner"}, {"EPHOR_HOST", "testhost"}});
+  int64_t utime = 1'000'000;
+  auto low = arm_at(1159, 60, 150);  // at rest "on the elevation plane", 50 mm low
+  low.plane = arm_goal_t::PLANE_ELEVATION;
+  const std::string said = "work cell disagreement";
+  ASSERT_TRUE(wait_until(
+      [&] {
+        probe.bus().publish(channels::kArmState, low);
+        auto m = objects(utime += 33'333, 400, 600);
+        probe.bus().publish(channels::kObjects, m);
+        return procs.has_line("planner", said);
+      },
+      seconds(15)))
+      << "ephor-planner did not report the disagreement";
+  // Two seconds of frames and arm states, each answered by a status saying
+  // why there is no goal (a goal would have gone out at the first frame).
+  for (int i = 0; i < 60; ++i) {
+    probe.bus().publish(channels::kArmState, low);
+    auto m = objects(utime += 33'333, 400, 600);
+    probe.bus().publish(channels::kObjects, m);
+  }
+  ASSERT_TRUE(wait_until(
+      [&] {
+        const auto st = probe.status();
+        return st && st->utime == utime;
+      },
+      seconds(5)));
+  EXPECT_EQ(probe.status()->phase, "workcell mismatch");
+  EXPECT_TRUE(probe.goals().empty());
+  int reports = 0;
+  for (const auto& line : procs.lines("planner")) reports += line.find(said) != std::string::npos;
+  EXPECT_EQ(reports, 1) << "the disagreement is said once, not at the frame rate";
+
+  auto right = arm_at(1159, 60, 200);
+  right.plane = arm_goal_t::PLANE_ELEVATION;
+  EXPECT_TRUE(wait_until(
+      [&] {
+        probe.bus().publish(channels::kArmState, right);
+        auto m = objects(utime += 33'333, 400, 600);
+        probe.bus().publish(channels::kObjects, m);
+        return !probe.goals().empty();
+      },
+      seconds(10)))
+      << "planning did not resume once the arm agreed";
+  EXPECT_TRUE(procs.has_line("planner", "planning again"));
+  EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
+}
+
+// A calibration made for other plane heights than the work cell's is refused
+// at start, naming both.
+TEST(PlannerProcess, RefusesACalibrationThatDoesNotFitTheWorkcell) {
+  const std::string cell = write_temp_file("workcell.pbtxt", "elevation_plane_z_mm: 250\n");
+  Processes procs;
+  procs.start("planner", bin("ephor-planner"), {"--no-mlock", "--workcell", cell},
+              {{"EPHOR_PROCESS", "planner"}, {"EPHOR_HOST", "testhost"}});
+  ASSERT_TRUE(wait_until([&] { return !procs.exits().empty(); }, seconds(10)));
+  EXPECT_FALSE(procs.exits().front().signaled);
+  EXPECT_EQ(procs.exits().front().code, 2);
+  EXPECT_TRUE(
+      procs.has_line("planner", "elevation plane is at z = 200.0 mm, the work cell's at 250.0"));
+}
+
 }  // namespace
 }  // namespace ephor::testing

@@ -32,6 +32,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/arm/servo_messages.h"
+#include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -124,11 +125,16 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed of the world and camera noise (default 1)");
   app.add_option("--fps", fps, "camera frames per second (default 30)")
       ->check(CLI::Range(0.1, 1000.0));
-  app.add_option("--speed-mm-s,--sheep-speed", speed, "nominal sheep speed, mm/s (default 8, the paper's; 30 is a stress setting)")
+  app.add_option("--speed-mm-s,--sheep-speed", speed,
+                 "nominal sheep speed, mm/s (default 8, the paper's; 30 is a stress setting)")
       ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--noise", noise, "camera pixel noise sigma, grey levels (default 2.5)")
       ->check(CLI::Range(0.0, 50.0));
   app.add_option("--reentry-s", reentry, "delay before an escaped sheep re-enters, s; < 0 = never");
+  std::string workcell_path;
+  app.add_option("--workcell", workcell_path,
+                 "work cell file (common/geometry/workcell.proto): field, planes, arm mounting; "
+                 "default: the shepherding field");
   app.add_option("--config", config_path,
                  "text config (procs/shepherd/sim/sim_config.proto); flags override it");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
@@ -148,6 +154,10 @@ int main(int argc, char** argv) {
     if (!std::isfinite(config.world.reentry_s))
       throw std::invalid_argument("--reentry-s must be finite");
     config.camera.seed = config.world.seed;
+    if (!workcell_path.empty()) {
+      config.world.workcell = ephor::geometry::workcell_from_flag(workcell_path);
+      spdlog::info("work cell {}", workcell_path);
+    }
 
     SimProcess p(config);
     ephor::sim::CameraRenderer camera(config.camera, config.world);  // the camera task's own

@@ -21,6 +21,7 @@
 
 #include "common/calibration/field_calibration.h"
 #include "common/config/repo_paths.h"
+#include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/lcm/mailbox.h"
@@ -166,6 +167,10 @@ int main(int argc, char** argv) {
   app.add_option("--calibration", calibration_path,
                  "image-to-field calibration (Protobuf text); default "
                  "deploy/calibration/sim.pbtxt in the repository");
+  std::string workcell_path;
+  app.add_option("--workcell", workcell_path,
+                 "work cell file (common/geometry/workcell.proto): the field's extent; default: "
+                 "the shepherding field");
   app.add_option("--mark-height-mm", config.mark_height_mm,
                  "height in F of the sheep's marks, mm (the calibration is evaluated there)")
       ->check(CLI::Range(-1000.0, 2000.0));
@@ -186,6 +191,7 @@ int main(int argc, char** argv) {
     if (calibration_path.empty()) calibration_path = ephor::default_calibration_path();
     auto calibration = ephor::calibration::FieldCalibration::load(calibration_path);
     spdlog::info("calibration {} ({})", calibration_path, calibration.source());
+    config.workcell = ephor::geometry::workcell_from_flag(workcell_path);
     WorldModel wm(std::move(calibration), config);
 
     ephor::Bus bus(args.lcm_url, args.name);

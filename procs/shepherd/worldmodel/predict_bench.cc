@@ -247,9 +247,9 @@ int main(int argc, char** argv) {
         {"ephor", DoubleAlphaBetaFilter::Params{}},
     };
     nlohmann::json out;
-    out["experiment"] =
-        "paper 003 figure 21: straight-line sheep " + std::to_string(nominal_speed_mm_s) +
-        " mm/s +-20 %, 0.2 px noise, 30 Hz, settle 10 s";
+    out["experiment"] = "paper 003 figure 21: straight-line sheep " +
+                        std::to_string(nominal_speed_mm_s) +
+                        " mm/s +-20 %, 0.2 px noise, 30 Hz, settle 10 s";
     out["runs"] = runs;
     out["seed"] = seed;
     out["horizons_s"] = std::vector<double>(std::begin(kHorizonsS), std::end(kHorizonsS));
