@@ -1,0 +1,344 @@
+#include "common/sphere/scan_line_extent.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <Eigen/Dense>
+
+namespace ephor::sphere {
+
+ScanLineExtentConfig ScanLineExtentConfig::improved() {
+  ScanLineExtentConfig c;
+  c.edge_correction = true;
+  c.exact_geometry = true;
+  c.weighted_regression = true;
+  c.profile_sign = true;
+  c.iterations = 2;
+  return c;
+}
+
+LineFit regress(const std::vector<double>& t, const std::vector<double>& x,
+                const std::vector<double>* weights) {
+  // Equations 39-40, written about the (weighted) mean time for round-off.
+  double sw = 0.0, st = 0.0, sx = 0.0;
+  for (size_t j = 0; j < t.size(); ++j) {
+    const double w = weights ? (*weights)[j] : 1.0;
+    sw += w;
+    st += w * t[j];
+    sx += w * x[j];
+  }
+  LineFit fit;
+  if (sw <= 0.0) return fit;
+  const double tm = st / sw, xm = sx / sw;
+  double stt = 0.0, stx = 0.0;
+  for (size_t j = 0; j < t.size(); ++j) {
+    const double w = weights ? (*weights)[j] : 1.0;
+    stt += w * (t[j] - tm) * (t[j] - tm);
+    stx += w * (t[j] - tm) * (x[j] - xm);
+  }
+  fit.slope = stt > 1e-18 ? stx / stt : 0.0;
+  fit.x0 = xm - fit.slope * tm;
+  return fit;
+}
+
+namespace {
+
+// Median azimuth step between consecutive pulses of a line over the whole
+// window: the pulse spacing (encoder noise is symmetric, so the median of
+// thousands of steps is within a few urad of it).
+double azimuth_step(const Window& window) {
+  std::vector<double> steps;
+  for (const ScanLine& line : window.lines) {
+    for (size_t i = 1; i < line.pulses.size(); ++i) {
+      steps.push_back(std::abs(line.pulses[i].azimuth_rad - line.pulses[i - 1].azimuth_rad));
+    }
+  }
+  if (steps.empty()) return 0.0;
+  const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), mid, steps.end());
+  return *mid;
+}
+
+struct Rejections {
+  int at_edge = 0;
+  int too_few = 0;
+};
+
+std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line,
+                                    size_t index, const ForegroundGate& gate, double delta,
+                                    Rejections& rejected) {
+  std::vector<size_t> hits;
+  for (size_t i = 0; i < line.pulses.size(); ++i) {
+    if (gate.is_foreground(line.pulses[i])) hits.push_back(i);
+  }
+  if (hits.empty()) return std::nullopt;
+  // Section 3: a line whose edge of the sphere cannot be found (the sphere
+  // cut by the frame's side, or the line cut by the window) is useless.
+  if (hits.front() == 0 || hits.back() + 1 == line.pulses.size()) {
+    ++rejected.at_edge;
+    return std::nullopt;
+  }
+  const int m = static_cast<int>(hits.size());
+  if (m < cfg.min_points_per_line) {
+    ++rejected.too_few;
+    return std::nullopt;
+  }
+  LineExtent e;
+  e.line_index = index;
+  e.points = m;
+  const Pulse& first = line.pulses[hits.front()];
+  const Pulse& last = line.pulses[hits.back()];
+  e.t_s = 0.5 * (first.t_s + last.t_s);  // eq. 34
+
+  // Eq. 12-13: align the line with the azimuth axis. The slope theta of
+  // elevation on azimuth; we rotate by -theta (the printed +theta doubles
+  // the slope), eq. 32-33 rotate back.
+  double theta = 0.0;
+  if (m >= 3) {
+    double ma = 0.0, me = 0.0;
+    for (size_t i : hits) {
+      ma += line.pulses[i].azimuth_rad;
+      me += line.pulses[i].elevation_rad;
+    }
+    ma /= m;
+    me /= m;
+    double saa = 0.0, sae = 0.0;
+    for (size_t i : hits) {
+      const double da = line.pulses[i].azimuth_rad - ma;
+      saa += da * da;
+      sae += da * (line.pulses[i].elevation_rad - me);
+    }
+    if (saa > 0.0) theta = std::atan(sae / saa);
+  }
+  const double ct = std::cos(theta), st = std::sin(theta);
+  std::vector<double> a(hits.size()), r(hits.size());
+  double phi = 0.0;
+  for (size_t k = 0; k < hits.size(); ++k) {
+    const Pulse& p = line.pulses[hits[k]];
+    a[k] = p.azimuth_rad * ct + p.elevation_rad * st;
+    phi += -p.azimuth_rad * st + p.elevation_rad * ct;
+    r[k] = p.range_m;
+  }
+  phi /= m;  // the line's elevation in the aligned space (eq. 16's phi)
+  const double mid = 0.5 * (a.front() + a.back());  // eq. 15
+  // Full extent between the edges (eq. 19 without its halving; see header).
+  const double lambda = std::abs(a.back() - a.front()) + (cfg.edge_correction ? delta : 0.0);
+  const double half = 0.5 * lambda;
+  const double chord_factor = cfg.exact_geometry ? std::sin(half) : std::tan(half);
+
+  // Eq. 20-26: s_0 from the ends' ranges, then s_k, l_k.
+  double s = std::max(r.front(), r.back());
+  double l = s * chord_factor;
+  const double sig_lambda2 = 2.0 * cfg.angle_sigma_rad * cfg.angle_sigma_rad +
+                             (cfg.edge_correction ? delta * delta / 6.0 : 0.0);
+  for (int k = 0; k < std::max(1, cfg.iterations); ++k) {
+    l = s * chord_factor;  // eq. 22
+    const double sig_l = 0.5 * s * std::sqrt(sig_lambda2);
+    double sum = 0.0, wsum = 0.0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      const double ai = a[i] - mid;                              // eq. 15
+      const double d = r[i] * std::cos(ai);                      // eq. 23
+      const double x = r[i] * std::sin(ai);                      // eq. 24
+      const double z = std::sqrt(std::max(0.0, l * l - x * x));  // eq. 25
+      double w = 1.0;
+      if (cfg.weighted_regression) {
+        // var(d + z): range noise, x noise through dz/dx = -x/z, l noise through l/z.
+        const double zf = std::max(z, 0.05 * l);
+        const double ang = r[i] * cfg.angle_sigma_rad;
+        w = 1.0 / (cfg.range_sigma_m * cfg.range_sigma_m + (x / zf) * (x / zf) * ang * ang +
+                   (l / zf) * (l / zf) * sig_l * sig_l);
+      }
+      sum += w * (d + z);
+      wsum += w;
+    }
+    s = sum / wsum;  // eq. 26
+  }
+  const double u = cfg.sphere_radius_m;
+  e.theta_rad = theta;
+  e.phi_rad = phi;
+  e.mid_azimuth_rad = mid;
+  e.lambda_rad = lambda;
+  e.s_m = s;
+  e.l_m = l;
+  e.y_abs_m = std::sqrt(std::max(0.0, u * u - l * l));  // eq. 28
+
+  // Variances for the weighted regression (sensor noise propagated).
+  const double sa = cfg.angle_sigma_rad;
+  const double quant = cfg.edge_correction ? delta * delta / 12.0 : 0.0;
+  const double sig_l = 0.5 * s * std::sqrt(sig_lambda2);
+  double zsens = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double x = r[i] * std::sin(a[i] - mid);
+    const double z = std::max(std::sqrt(std::max(0.0, l * l - x * x)), 0.3 * l);
+    zsens += l / z;
+  }
+  zsens /= m;
+  e.variance_m2.x() = s * s * (sa * sa + quant) / 2.0;
+  e.variance_m2.y() =
+      s * s * sa * sa / m + sig_l * sig_l * l * l / (e.y_abs_m * e.y_abs_m + sig_l * u);
+  e.variance_m2.z() = cfg.range_sigma_m * cfg.range_sigma_m / m + zsens * zsens * sig_l * sig_l;
+  return e;
+}
+
+// Completes a line's estimate once its sign is chosen: eq. 27-37.
+void finish(const ScanLineExtentConfig& cfg, LineExtent& e) {
+  const double e_off = e.sign * std::atan(e.y_abs_m / e.s_m);    // eq. 29
+  e.range_m = cfg.exact_geometry ? std::hypot(e.s_m, e.y_abs_m)  // the centre off the line's plane
+                                 : e.s_m * std::cos(e_off);      // eq. 27 as printed
+  const double a_dot = e.mid_azimuth_rad;                        // eq. 18, 30
+  const double e_dot = e_off + e.phi_rad;                        // eq. 31
+  const double ct = std::cos(e.theta_rad), st = std::sin(e.theta_rad);
+  e.azimuth_rad = a_dot * ct - e_dot * st;  // eq. 32-33 (inverse of our eq. 12-13)
+  e.elevation_rad = a_dot * st + e_dot * ct;
+  e.position_m = to_cartesian(e.azimuth_rad, e.elevation_rad, e.range_m);
+}
+
+// Eq. 28-29's sign for each line of one pass over the sphere (a run of
+// consecutive lines with returns): lines above the reference are above the
+// centre (sign -1), lines below it are below (+1).
+void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pass) {
+  if (pass.empty()) return;
+  // The paper's reference: the longest line.
+  const LineExtent* longest = pass.front();
+  for (const LineExtent* e : pass) {
+    if (e->lambda_rad > longest->lambda_rad) longest = e;
+  }
+  double reference = longest->phi_rad;
+  bool from_profile = false;
+  if (cfg.profile_sign && pass.size() >= 5) {
+    // l^2 = u^2 - (s (phi - E_c))^2 is a parabola in phi peaking at the
+    // centre's elevation E_c: fit it over the pass.
+    Eigen::MatrixXd A(pass.size(), 3);
+    Eigen::VectorXd b(pass.size());
+    const double p0 = longest->phi_rad;
+    for (size_t j = 0; j < pass.size(); ++j) {
+      const double dp = pass[j]->phi_rad - p0;
+      A(static_cast<Eigen::Index>(j), 0) = 1.0;
+      A(static_cast<Eigen::Index>(j), 1) = dp;
+      A(static_cast<Eigen::Index>(j), 2) = dp * dp;
+      b(static_cast<Eigen::Index>(j)) = pass[j]->l_m * pass[j]->l_m;
+    }
+    const Eigen::Vector3d c = A.colPivHouseholderQr().solve(b);
+    if (c(2) < 0.0) {
+      const double peak = p0 - c(1) / (2.0 * c(2));
+      double lo = pass.front()->phi_rad, hi = lo;
+      for (const LineExtent* e : pass) {
+        lo = std::min(lo, e->phi_rad);
+        hi = std::max(hi, e->phi_rad);
+      }
+      // Only inside the scanned span (beyond it the parabola extrapolates).
+      if (peak >= lo && peak <= hi) {
+        reference = peak;
+        from_profile = true;
+      }
+    }
+  }
+  int above = 0, below = 0;
+  for (const LineExtent* e : pass) {
+    if (e == longest && !from_profile) continue;
+    if (e->phi_rad > reference) {
+      ++above;
+    } else {
+      ++below;
+    }
+  }
+  for (LineExtent* e : pass) {
+    if (e == longest && !from_profile) {
+      // The reference line itself: if the pass lies mostly above it, the
+      // pass stopped near the centre (less than a frame): the centre is
+      // below it.
+      e->sign = above > below ? -1 : +1;
+    } else {
+      e->sign = e->phi_rad > reference ? -1 : +1;
+    }
+    finish(cfg, *e);
+  }
+}
+
+}  // namespace
+
+std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::string* why) const {
+  std::vector<LineExtent> out;
+  ForegroundGate gate(config_.gate);
+  if (gate.learn(window) == 0) {
+    if (why) *why = "no returns closer than the background threshold";
+    return out;
+  }
+  const double delta = azimuth_step(window);
+  Rejections rejected;
+  std::vector<std::vector<LineExtent*>> passes;
+  // Lines with returns in a row form a pass; a line without returns ends it.
+  std::vector<int> pass_of;
+  int current = -1;
+  bool in_pass = false;
+  for (size_t j = 0; j < window.lines.size(); ++j) {
+    bool any = false;
+    for (const Pulse& p : window.lines[j].pulses) any = any || gate.is_foreground(p);
+    if (!any) {
+      in_pass = false;
+      continue;
+    }
+    if (!in_pass) {
+      ++current;
+      in_pass = true;
+    }
+    std::optional<LineExtent> e = extent_of(config_, window.lines[j], j, gate, delta, rejected);
+    if (e) {
+      out.push_back(*e);
+      pass_of.push_back(current);
+    }
+  }
+  if (out.empty()) {
+    if (why) {
+      *why = "no usable scan line (" + std::to_string(rejected.at_edge) +
+             " cut by the frame or window edge, " + std::to_string(rejected.too_few) +
+             " with fewer than " + std::to_string(config_.min_points_per_line) + " points)";
+    }
+    return out;
+  }
+  passes.resize(static_cast<size_t>(current + 1));
+  for (size_t k = 0; k < out.size(); ++k)
+    passes[static_cast<size_t>(pass_of[k])].push_back(&out[k]);
+  for (auto& pass : passes) choose_signs(config_, pass);
+  return out;
+}
+
+Estimate ScanLineExtent::locate(const Window& window) const {
+  std::string why;
+  const std::vector<LineExtent> lines = line_extents(window, &why);
+  int points = 0;
+  for (const LineExtent& e : lines) points += e.points;
+  if (static_cast<int>(lines.size()) < config_.min_lines) {
+    if (lines.empty()) return Estimate::none(why, points, 0);
+    return Estimate::none("only " + std::to_string(lines.size()) + " usable scan lines (need " +
+                              std::to_string(config_.min_lines) + ")",
+                          points, static_cast<int>(lines.size()));
+  }
+  std::vector<double> t(lines.size());
+  double t_mean = 0.0;
+  for (size_t j = 0; j < lines.size(); ++j) {
+    t[j] = lines[j].t_s;
+    t_mean += t[j];
+  }
+  t_mean /= static_cast<double>(lines.size());
+  Estimate est;
+  est.ok = true;
+  est.t_s = t_mean;
+  est.points = points;
+  est.lines = static_cast<int>(lines.size());
+  std::vector<double> x(lines.size()), w(lines.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    for (size_t j = 0; j < lines.size(); ++j) {
+      x[j] = lines[j].position_m(axis);
+      w[j] = 1.0 / lines[j].variance_m2(axis);
+    }
+    const LineFit fit = regress(t, x, config_.weighted_regression ? &w : nullptr);  // eq. 38-40
+    est.velocity_m_s(axis) = fit.slope;
+    est.position_m(axis) = fit.x0 + fit.slope * t_mean;
+  }
+  return est;
+}
+
+}  // namespace ephor::sphere
