@@ -117,6 +117,23 @@ bool CameraRenderer::covers(const Capsule2& c, const Eigen::Vector2d& p) {
   return capsule_depth(c.a, c.b, c.ra, c.rb, p) > 0.0;
 }
 
+void CameraRenderer::blend_cloud(const Cloud& cloud) {
+  const int w = width(), h = height();
+  const double r = std::max(cloud.semi_u_px, cloud.semi_v_px);
+  const int u0 = std::max(0, static_cast<int>(std::floor(cloud.centre_px.x() - r)));
+  const int u1 = std::min(w - 1, static_cast<int>(std::ceil(cloud.centre_px.x() + r)));
+  const int v0 = std::max(0, static_cast<int>(std::floor(cloud.centre_px.y() - r)));
+  const int v1 = std::min(h - 1, static_cast<int>(std::ceil(cloud.centre_px.y() + r)));
+  for (int v = v0; v <= v1; ++v) {
+    for (int u = u0; u <= u1; ++u) {
+      const double a = cloud.weight({u, v});  // pixel centres at integers, as blend_disc
+      if (a <= 0.0) continue;
+      float& g = scene_[static_cast<size_t>(v) * static_cast<size_t>(w) + static_cast<size_t>(u)];
+      g = static_cast<float>((1.0 - a) * static_cast<double>(g) + a * cloud.level);
+    }
+  }
+}
+
 void CameraRenderer::blend_disc(const Eigen::Vector2d& centre, double radius, double level) {
   const int w = width(), h = height();
   const int u0 = std::max(0, static_cast<int>(std::floor(centre.x() - radius - 1.0)));
@@ -266,7 +283,8 @@ std::vector<MarkView> CameraRenderer::mark_views(const std::vector<SheepState>& 
 
 std::vector<MarkView> CameraRenderer::render(const std::vector<SheepState>& sheep,
                                              const std::vector<ArmPart>& arm,
-                                             std::vector<uint8_t>& image, const ToolLight* light) {
+                                             std::vector<uint8_t>& image, const ToolLight* light,
+                                             const std::vector<Cloud>& clouds) {
   const auto& cam = config_.camera;
   scene_ = background_;
   // Bodies first (footprint of the body's top at body height), then the marks.
@@ -290,6 +308,7 @@ std::vector<MarkView> CameraRenderer::render(const std::vector<SheepState>& shee
     if (t.allFinite() && t.z() < cam.height_mm)
       blend_disc(cam.project(t.x(), t.y(), t.z()), light->radius_px, light->level);
   }
+  for (const auto& cloud : clouds) blend_cloud(cloud);
 
   // One pass a compiler vectorises: no wrap of the noise index (the table
   // holds more than four frames, so a frame's samples are one run of it), and

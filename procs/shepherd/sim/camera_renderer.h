@@ -42,6 +42,7 @@
 #include <Eigen/Core>
 
 #include "common/geometry/overhead_camera.h"
+#include "procs/shepherd/sim/cloud_field.h"
 #include "procs/shepherd/sim/world.h"
 
 namespace ephor::sim {
@@ -103,10 +104,12 @@ class CameraRenderer {
   // Renders one frame into `image` (resized to width * height bytes, row-major,
   // row 0 at the top) and returns one view per sheep, in the order given.
   // `light` (may be null): the tool light, drawn last (it is on the tip,
-  // facing the camera, so the arm never hides it).
+  // facing the camera, so the arm never hides it). `clouds` are between the
+  // camera and everything else: drawn over all of it.
   std::vector<MarkView> render(const std::vector<SheepState>& sheep,
                                const std::vector<ArmPart>& arm, std::vector<uint8_t>& image,
-                               const ToolLight* light = nullptr);
+                               const ToolLight* light = nullptr,
+                               const std::vector<Cloud>& clouds = {});
 
   // Where each mark is and how much of it the arm hides, without rendering.
   std::vector<MarkView> mark_views(const std::vector<SheepState>& sheep,
@@ -123,6 +126,7 @@ class CameraRenderer {
   void blend_convex(const std::vector<Eigen::Vector2d>& poly, double level,
                     std::vector<float>& target) const;
   void blend_capsule(const Capsule2& c, double level);
+  void blend_cloud(const Cloud& cloud);
 
   CameraConfig config_;
   WorldConfig world_;

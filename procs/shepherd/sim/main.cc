@@ -131,6 +131,24 @@ int main(int argc, char** argv) {
   app.add_option("--noise", noise, "camera pixel noise sigma, grey levels (default 2.5)")
       ->check(CLI::Range(0.0, 50.0));
   app.add_option("--reentry-s", reentry, "delay before an escaped sheep re-enters, s; < 0 = never");
+  int clouds = 0;
+  bool no_sheep_collisions = false, no_pedestal = false, no_arm_in_image = false;
+  double wander = -1.0;
+  app.add_option("--clouds", clouds,
+                 "soft-edged clouds drifting between the camera and the field, half darker and "
+                 "half brighter than it (paper 003, section 6; default 0)")
+      ->check(CLI::Range(0, 32));
+  app.add_flag("--no-sheep-collisions", no_sheep_collisions,
+               "sheep pass through each other (to measure what collisions cost)");
+  app.add_flag("--no-pedestal", no_pedestal,
+               "sheep pass through the arm's pedestal (to measure what it costs)");
+  app.add_flag("--no-arm-in-image", no_arm_in_image,
+               "the camera does not see the arm, so it never hides a mark (to measure what the "
+               "occlusion costs the tracking)");
+  app.add_option("--wander-rad-s", wander,
+                 "standard deviation of the sheep's heading rate, rad/s (default 0.02; 0 = "
+                 "straight lines, as the planners' stand-in)")
+      ->check(CLI::Range(0.0, 10.0));
   std::string workcell_path;
   app.add_option("--workcell", workcell_path,
                  "work cell file (common/geometry/workcell.proto): field, planes, arm mounting; "
@@ -154,6 +172,12 @@ int main(int argc, char** argv) {
     if (!std::isfinite(config.world.reentry_s))
       throw std::invalid_argument("--reentry-s must be finite");
     config.camera.seed = config.world.seed;
+    config.clouds.seed = config.world.seed;
+    if (app.count("--clouds")) config.clouds.clouds = clouds;
+    if (no_sheep_collisions) config.world.sheep_collisions = false;
+    if (no_pedestal) config.world.pedestal = false;
+    if (no_arm_in_image) config.arm_in_image = false;
+    if (wander >= 0.0) config.world.wander_rad_s = wander;
     if (!workcell_path.empty()) {
       config.world.workcell = ephor::geometry::workcell_from_flag(workcell_path);
       spdlog::info("work cell {}", workcell_path);
@@ -279,6 +303,11 @@ int main(int argc, char** argv) {
     runtime.start();
     spdlog::info("running: {} sheep, seed {}, {} fps, sheep speed {} mm/s", config.world.sheep,
                  config.world.seed, fps, config.world.speed_mm_s);
+    spdlog::info(
+        "world: {} cloud(s), sheep collisions {}, pedestal {}, arm in image {}, wander {} rad/s",
+        config.clouds.clouds, config.world.sheep_collisions ? "on" : "off",
+        config.world.pedestal ? "on" : "off", config.arm_in_image ? "yes" : "no",
+        config.world.wander_rad_s);
     ephor::wait_for_shutdown_signal(duration_s);
     runtime.stop();
     std::lock_guard<std::mutex> lock(p.mutex);

@@ -49,7 +49,8 @@ Simulator::Simulator(SimulatorConfig config)
       puma_(arm::make_puma(config_.world.workcell)),
       world_(config_.world),
       servo_(puma_.limits(), arm::park_joints(config_.world.workcell)),
-      camera_(config_.camera, config_.world) {
+      camera_(config_.camera, config_.world),
+      clouds_(config_.clouds, camera_.width(), camera_.height()) {
   if (!std::isfinite(config_.servo_step_s) || config_.servo_step_s <= 0.0 ||
       config_.servo_step_s > 0.01)
     throw std::invalid_argument("sim config: servo_step_s must be in (0, 0.01] s");
@@ -76,7 +77,8 @@ Scene Simulator::scene() const {
   Scene s;
   s.time_s = world_.time_s();
   s.sheep = world_.sheep();
-  s.arm = arm_parts(puma_, config_.world.workcell, servo_.state().q);
+  if (config_.arm_in_image) s.arm = arm_parts(puma_, config_.world.workcell, servo_.state().q);
+  s.clouds = clouds_.at(s.time_s);
   s.escapes = world_.escapes();
   s.saves = world_.saves();
   if (tool_light_on_) {
@@ -111,8 +113,9 @@ GroundTruth Simulator::render(std::vector<uint8_t>& image) {
 
 GroundTruth Simulator::render(const Scene& scene, CameraRenderer& camera,
                               std::vector<uint8_t>& image) {
-  return combine(scene, camera.render(scene.sheep, scene.arm, image,
-                                      scene.tool_light ? &*scene.tool_light : nullptr));
+  return combine(scene,
+                 camera.render(scene.sheep, scene.arm, image,
+                               scene.tool_light ? &*scene.tool_light : nullptr, scene.clouds));
 }
 
 }  // namespace ephor::sim

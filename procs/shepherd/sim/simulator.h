@@ -31,6 +31,11 @@ namespace ephor::sim {
 struct SimulatorConfig {
   WorldConfig world;  // world.workcell is the work cell of the arm and camera too
   CameraConfig camera;
+  CloudFieldConfig clouds;  // clouds between the camera and the field (0 = none)
+  // False: the camera does not see the arm (it never hides a mark). For
+  // measuring what the arm's occlusion costs the tracking; the arm still moves
+  // and touches sheep.
+  bool arm_in_image = true;
   double servo_step_s = 0.001;  // the servo integrates in steps no longer than this, s
 };
 
@@ -48,6 +53,7 @@ struct Scene {
   int32_t escapes = 0;
   int32_t saves = 0;
   std::optional<ToolLight> tool_light;  // set while the calibration light is on
+  std::vector<Cloud> clouds;
 };
 
 struct GroundTruth {
@@ -103,6 +109,7 @@ class Simulator {
   World world_;
   ArmServo servo_;
   CameraRenderer camera_;
+  CloudField clouds_;
   bool tool_light_on_ = false;
 };
 

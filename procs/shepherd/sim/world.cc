@@ -108,6 +108,7 @@ struct ContactStart {
 class ContactRecorder : public b2ContactListener {
  public:
   void BeginContact(b2Contact* contact) override {
+    if (contact->GetFixtureA()->IsSensor() || contact->GetFixtureB()->IsSensor()) return;
     b2WorldManifold wm;
     contact->GetWorldManifold(&wm);
     starts.push_back(
@@ -153,7 +154,10 @@ void World::build(uint64_t seed) {
   physics_->pedestal = physics_->world.CreateBody(&pedestal_def);
   b2CircleShape column;
   column.m_radius = to_units(w.pedestal_radius_mm);
-  physics_->pedestal->CreateFixture(&column, 0.0f);
+  b2FixtureDef column_fixture;
+  column_fixture.shape = &column;
+  column_fixture.isSensor = !config_.pedestal;  // a sensor is there but stops nothing
+  physics_->pedestal->CreateFixture(&column_fixture);
 
   // Initial herd: uniformly placed away from the edges, the pedestal and each
   // other, facing random directions.
@@ -213,6 +217,9 @@ int32_t World::create_sheep(double x_mm, double y_mm, double heading_rad, double
   fixture.density = 1.0f;
   fixture.friction = 0.3f;     // Lego against Lego
   fixture.restitution = 0.1f;  // the "wool" makes collisions soft
+  // Fixtures of one negative group never collide with each other (Box2D's
+  // filtering), but still with the pedestal.
+  if (!config_.sheep_collisions) fixture.filter.groupIndex = -1;
   body->CreateFixture(&fixture);
 
   auto s = std::make_unique<Sheep>();
@@ -478,8 +485,11 @@ double World::deepest_penetration_mm() const {
     const b2Body* bi = sheep_[i]->body;
     const auto* pi = static_cast<const b2PolygonShape*>(bi->GetFixtureList()->GetShape());
     b2Manifold m;
-    b2CollidePolygonAndCircle(&m, pi, bi->GetTransform(), column, xc);
-    measure(m, bi->GetTransform(), pi->m_radius, xc, column->m_radius);
+    if (config_.pedestal) {  // otherwise sheep may pass through it
+      b2CollidePolygonAndCircle(&m, pi, bi->GetTransform(), column, xc);
+      measure(m, bi->GetTransform(), pi->m_radius, xc, column->m_radius);
+    }
+    if (!config_.sheep_collisions) continue;  // sheep may pass through each other
     for (size_t j = i + 1; j < sheep_.size(); ++j) {
       const b2Body* bj = sheep_[j]->body;
       const auto* pj = static_cast<const b2PolygonShape*>(bj->GetFixtureList()->GetShape());

@@ -66,6 +66,12 @@ struct WorldConfig {
   double touch_height_mm = 20.0;
   double touch_radius_mm = 15.0;
 
+  // Switches for measuring what each part of the world costs the system
+  // (issue 13; the planners' kinematic stand-in has neither): sheep that pass
+  // through each other, and a pedestal the sheep pass through.
+  bool sheep_collisions = true;
+  bool pedestal = true;
+
   // step(dt) subdivides into physics steps no longer than this (s).
   double max_substep_s = 0.005;
 };
