@@ -1,0 +1,177 @@
+#include "common/rambo/triangle_pose_estimator.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace ephor::rambo {
+namespace {
+
+TargetModel box() { return TargetModel::truncated_box(140, 100, 70, Eigen::Vector3d(40, 30, 25)); }
+
+// The cut corner (+x, +y, +z) turned towards the camera, 600 mm away.
+Eigen::Isometry3d true_pose(double roll = 0.4) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(
+      Eigen::Vector3d(1, 1, 1).normalized(), Eigen::Vector3d(0.2, -0.1, -1.0).normalized());
+  p.linear() = (Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()) * q).toRotationMatrix();
+  p.translation() << 30.0, -20.0, 600.0;
+  return p;
+}
+
+double angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle();
+}
+
+TEST(TargetModel, TruncatedBoxTopology) {
+  const TargetModel m = box();
+  EXPECT_EQ(m.vertices().size(), 10u);
+  EXPECT_EQ(m.edges().size(), 15u);
+  EXPECT_EQ(m.triangles().size(), 30u);  // every vertex has 3 edges: 3 pairs each
+  EXPECT_EQ(m.faces().size(), 7u);
+}
+
+TEST(TargetModel, BadModelsSayWhatIsWrong) {
+  std::vector<Eigen::Vector3d> v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  try {
+    TargetModel(v, {{0, 1, 2}, {0, 1, 7}});
+    FAIL() << "accepted a face naming a missing vertex";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("face 1 names missing vertex 7"), std::string::npos)
+        << e.what();
+  }
+  GoalPoint far{"diode-3", Eigen::Isometry3d(Eigen::Translation3d(5000, 0, 0))};
+  try {
+    TargetModel(v, {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}}, {far}, 500.0);
+    FAIL() << "accepted a goal point off the target";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("goal point 'diode-3'"), std::string::npos) << e.what();
+  }
+  v[2].x() = std::nan("");
+  EXPECT_THROW(TargetModel(v, {{0, 1, 2}}), std::invalid_argument);
+}
+
+TEST(TrianglePoseEstimator, ExactPerspectiveRecoversNoiseFreePose) {
+  const CameraIntrinsics cam;
+  const auto triples = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  ASSERT_GE(triples.size(), 10u);
+  TrianglePoseEstimator est(box(), cam, TrianglePoseOptions{});
+  const TrianglePoseResult r = est.estimate(triples);
+  ASSERT_TRUE(r.found) << r.reason;
+  EXPECT_LT((r.target_in_camera.translation() - true_pose().translation()).norm(), 1e-6);
+  EXPECT_LT(angle(r.target_in_camera.linear(), true_pose().linear()), 1e-6);
+  EXPECT_EQ(r.matches_tried, static_cast<long>(triples.size()) * 30 * 2);
+  // The clustering separates the true pose from the wrong matches: every
+  // image triple's true match votes for it, most hypotheses are elsewhere.
+  EXPECT_GE(r.cluster_size, static_cast<int>(triples.size()));
+  EXPECT_GT(r.hypotheses, 10 * r.cluster_size);
+  EXPECT_LT(r.rms_reprojection_px, 1e-6);
+}
+
+TEST(TrianglePoseEstimator, HalfPixelNoiseGivesMillimetres) {
+  const CameraIntrinsics cam;
+  TrianglePoseEstimator est(box(), cam, TrianglePoseOptions{});
+  std::mt19937 rng(11);
+  double worst_mm = 0.0, worst_rad = 0.0;
+  for (int i = 0; i < 10; ++i) {
+    const Eigen::Isometry3d truth = true_pose(0.3 * i);
+    const auto triples = synthetic_image_triples(box(), cam, truth, 0.5, &rng);
+    const TrianglePoseResult r = est.estimate(triples);
+    ASSERT_TRUE(r.found) << r.reason;
+    worst_mm = std::max(worst_mm, (r.target_in_camera.translation() - truth.translation()).norm());
+    worst_rad = std::max(worst_rad, angle(r.target_in_camera.linear(), truth.linear()));
+  }
+  EXPECT_LT(worst_mm, 5.0);
+  EXPECT_LT(worst_rad, 1.0 * M_PI / 180.0);
+  std::printf("0.5 px noise, 10 poses: worst %.2f mm, %.3f deg\n", worst_mm,
+              worst_rad * 180 / M_PI);
+}
+
+TEST(TrianglePoseEstimator, ParaperspectiveSingleTriangleIsCloseWhenFar) {
+  // A triangle 5 m away, 100 mm across: the approximation error is of the
+  // order of its depth over its distance (here < 1 %).
+  const Eigen::Vector3d vr(0, 0, 0), va(100, 0, 0), vb(0, 80, 30);
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 0.5).normalized()).toRotationMatrix();
+  truth.translation() << 300, -200, 5000;
+  const auto ray = [&](const Eigen::Vector3d& v) {
+    const Eigen::Vector3d p = truth * v;
+    return Eigen::Vector3d(p.x() / p.z(), p.y() / p.z(), 1.0);
+  };
+  std::vector<Eigen::Isometry3d> poses;
+  const int n =
+      TrianglePoseEstimator::paraperspective_pose(ray(vr), ray(va), ray(vb), vr, va, vb, &poses);
+  ASSERT_GE(n, 2);  // the two mirror orientations
+  double best_mm = 1e9, best_rad = 1e9;
+  for (const auto& p : poses) {
+    // The mirror solution has nearly the same translation: pick by attitude.
+    if (angle(p.linear(), truth.linear()) < best_rad) {
+      best_mm = (p.translation() - truth.translation()).norm();
+      best_rad = angle(p.linear(), truth.linear());
+    }
+  }
+  EXPECT_LT(best_mm, 0.01 * 5000);
+  EXPECT_LT(best_rad, 0.1);
+}
+
+TEST(TrianglePoseEstimator, ParaperspectiveClustersThenRefinesToTheExactPose) {
+  const CameraIntrinsics cam;
+  TrianglePoseOptions o;
+  o.method = TrianglePoseMethod::kParaperspective;
+  o.cluster_radius_mm = 60.0;
+  o.cluster_rotation_rad = 0.35;
+  o.refine_gate_px = 30.0;
+  const auto triples = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  const TrianglePoseResult r = TrianglePoseEstimator(box(), cam, o).estimate(triples);
+  ASSERT_TRUE(r.found) << r.reason;
+  EXPECT_LT((r.target_in_camera.translation() - true_pose().translation()).norm(), 1e-6);
+  o.refine = false;
+  const TrianglePoseResult raw = TrianglePoseEstimator(box(), cam, o).estimate(triples);
+  ASSERT_TRUE(raw.found) << raw.reason;
+  const double raw_mm = (raw.target_in_camera.translation() - true_pose().translation()).norm();
+  EXPECT_LT(raw_mm, 60.0);  // paraperspective alone, 600 mm away
+  std::printf("paraperspective cluster mean without refinement: %.1f mm, %.2f deg\n", raw_mm,
+              angle(raw.target_in_camera.linear(), true_pose().linear()) * 180 / M_PI);
+}
+
+TEST(TrianglePoseEstimator, PriorPrunesMatchesAndKeepsThePose) {
+  const CameraIntrinsics cam;
+  TrianglePoseEstimator est(box(), cam, TrianglePoseOptions{});
+  const auto triples = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  Eigen::Isometry3d prior = true_pose();
+  prior.translation() += Eigen::Vector3d(5, -5, 10);  // last estimate, a little off
+  const TrianglePoseResult full = est.estimate(triples);
+  const TrianglePoseResult pruned = est.estimate(triples, &prior);
+  ASSERT_TRUE(pruned.found) << pruned.reason;
+  EXPECT_LT(pruned.matches_tried * 10, full.matches_tried);
+  EXPECT_LT((pruned.target_in_camera.translation() - true_pose().translation()).norm(), 1e-6);
+}
+
+TEST(TrianglePoseEstimator, SpuriousCornersDoNotMoveThePose) {
+  const CameraIntrinsics cam;
+  auto triples = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(0, 639), y(0, 479);
+  for (int i = 0; i < 8; ++i)  // clutter: triples of random points
+    triples.push_back({{x(rng), y(rng)}, {x(rng), y(rng)}, {x(rng), y(rng)}, {}});
+  const TrianglePoseResult r =
+      TrianglePoseEstimator(box(), cam, TrianglePoseOptions{}).estimate(triples);
+  ASSERT_TRUE(r.found) << r.reason;
+  EXPECT_LT((r.target_in_camera.translation() - true_pose().translation()).norm(), 1e-6);
+}
+
+TEST(TrianglePoseEstimator, NoCornersIsNoPoseWithAReason) {
+  TrianglePoseEstimator est(box(), CameraIntrinsics{}, TrianglePoseOptions{});
+  const TrianglePoseResult r = est.estimate({});
+  EXPECT_FALSE(r.found);
+  EXPECT_NE(r.reason.find("no image triples"), std::string::npos);
+  ImageTriple bad{{std::nan(""), 0}, {1, 1}, {2, 2}, {}};
+  EXPECT_FALSE(est.estimate({bad}).found);
+  CameraIntrinsics c;
+  c.fx_px = 0;
+  EXPECT_THROW(TrianglePoseEstimator(box(), c, TrianglePoseOptions{}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ephor::rambo
