@@ -54,7 +54,8 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
       const double var_n = sr2 * cos_g * cos_g + sa * sa * sin2;
       const double var_perp = sr2 * sin2 + sa * sa * (1.0 + cos_g * cos_g);
       const double inv_sigma = 1.0 / std::sqrt(var_n);
-      r(i) = (dist - R - var_perp / (2.0 * R)) * inv_sigma;
+      const double offset = config_.noise_offset_correction ? var_perp / (2.0 * R) : 0.0;
+      r(i) = (dist - R - offset) * inv_sigma;
       if (J) {
         J->row(i).head<3>() = -normal.transpose() * inv_sigma;
         J->row(i).tail<3>() = -dt * normal.transpose() * inv_sigma;
