@@ -239,6 +239,55 @@ TEST(MultiSheepPlannerTest, FullCycleMoveVerifyLowerTurnRaiseThenPark) {
               raise->goal_id < park->goal_id);
 }
 
+// Issue 13: at the paper's 8 mm/s the lowered tool may wait 20 s for its
+// sheep; a second sheep that would leave meanwhile makes it give up the wait
+// (while the second is still savable), not after the second has gone.
+TEST(MultiSheepPlannerTest, GivesUpAWaitThatWouldLoseAnotherSheep) {
+  MultiSheepPlanner planner{PlannerConfig{}};
+  const Sheep slow = sheep(1, 250, 700, -8, 0);  // leaves over the left edge in 31 s
+  const auto move = planner.plan(make_scene({slow}));
+  ASSERT_TRUE(move.has_value());
+  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
+  // The arm is early, 150 mm farther along the sheep's path: it lowers
+  // there and the sheep walks under it, 20-odd seconds at 8 mm/s.
+  const auto lower = planner.plan(advance({slow}, 2.0, move->x_mm - 150.0, move->y_mm, false, 2.0));
+  ASSERT_TRUE(lower.has_value());
+  ASSERT_EQ(lower->plane, Plane::kObject);
+  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
+  // Down, the sheep still well short of the tool: a long wait, nobody else.
+  EXPECT_FALSE(planner.plan(advance({slow}, 3.0, lower->x_mm, lower->y_mm, true, 3.0)));
+  ASSERT_EQ(planner.status().phase, "turning");
+  // A second sheep, 150 mm from the bottom edge, heading out at 8 mm/s:
+  // it leaves in 19 s, the arm needs about 5 s to reach it.
+  Scene two = advance({slow}, 4.0, lower->x_mm, lower->y_mm, true, 4.0);
+  two.sheep.push_back(sheep(2, 700, 150, 0, -8));
+  const auto raise = planner.plan(two);
+  ASSERT_TRUE(raise.has_value()) << "kept waiting while sheep 2 walks off";
+  EXPECT_EQ(raise->plane, Plane::kElevation);
+  EXPECT_DOUBLE_EQ(raise->x_mm, lower->x_mm);
+  EXPECT_EQ(planner.status().saves, 0);
+}
+
+// ...but a sheep that leaves later than the wait plus the arm's way to it
+// does not interrupt the wait.
+TEST(MultiSheepPlannerTest, KeepsWaitingWhenTheOtherSheepCanWait) {
+  MultiSheepPlanner planner{PlannerConfig{}};
+  const Sheep slow = sheep(1, 250, 700, -8, 0);
+  const auto move = planner.plan(make_scene({slow}));
+  ASSERT_TRUE(move.has_value());
+  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
+  const auto lower = planner.plan(advance({slow}, 2.0, move->x_mm - 150.0, move->y_mm, false, 2.0));
+  ASSERT_TRUE(lower.has_value());
+  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
+  EXPECT_FALSE(planner.plan(advance({slow}, 3.0, lower->x_mm, lower->y_mm, true, 3.0)));
+  Scene two = advance({slow}, 4.0, lower->x_mm, lower->y_mm, true, 4.0);
+  // 40 s from the right edge: more than the longest wait (30 s) plus the
+  // arm's way to it.
+  two.sheep.push_back(sheep(2, 900, 600, 8, 0));
+  EXPECT_FALSE(planner.plan(two).has_value());
+  EXPECT_EQ(planner.status().phase, "turning");
+}
+
 TEST(MultiSheepPlannerTest, Step3RecheckDoesNotLowerOntoAnotherSheep) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const auto move = planner.plan(make_scene({kA}));

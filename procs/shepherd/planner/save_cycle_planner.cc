@@ -440,6 +440,10 @@ std::optional<Goal> SaveCyclePlanner::watch_turn(const Scene& scene) {
     turn_deadline_s_ = scene.now_s + std::min(wait, config().max_turn_wait_s);
   }
   if (scene.now_s > turn_deadline_s_) return raise(scene);
+  // At the paper's 8 mm/s a lowered tool may wait 20 s for its sheep to walk
+  // into it; another sheep must not walk off the field meanwhile (issue 13:
+  // the stand-in lost sheep exactly so). The target is chosen again later.
+  if (another_sheep_needs_the_arm(scene, turn_deadline_s_ - scene.now_s)) return raise(scene);
   if (off.speed_mm_s < config().min_sheep_speed_mm_s) return std::nullopt;
   if (off.along_mm < -(config().sheep_half_length_mm + 30.0)) return raise(scene);  // passed by
   // Paper's single-sheep planner: "the position and orientation of the
@@ -458,6 +462,26 @@ std::optional<Goal> SaveCyclePlanner::watch_turn(const Scene& scene) {
     }
   }
   return std::nullopt;
+}
+
+bool SaveCyclePlanner::another_sheep_needs_the_arm(const Scene& scene, double wait_left_s) const {
+  const ArmModel& arm = scene.arm;
+  // Slack for what the straight-line model does not time: the world model's
+  // lag in seeing the sheep, a correction, the goal round trips.
+  constexpr double kSlackS = 2.0;
+  for (int index : rules_.candidates_by_urgency(scene.sheep)) {
+    const Sheep& s = scene.sheep[static_cast<size_t>(index)];
+    if (s.id == target_) continue;
+    const double leaves_in_s = rules_.time_to_boundary(s);
+    if (!std::isfinite(leaves_in_s)) continue;
+    // Raise, cross to where the sheep is now, lower: the arm's time to it.
+    const double reach_s = arm.raise_time_s + arm.lowering_time_s + 3.0 * arm.overhead_s +
+                           std::hypot(s.x_mm - arm.x_mm, s.y_mm - arm.y_mm) / arm.speed_mm_s;
+    const bool lost_if_waiting = leaves_in_s < wait_left_s + reach_s + kSlackS;
+    const bool savable_now = leaves_in_s > reach_s;
+    if (lost_if_waiting && savable_now) return true;
+  }
+  return false;
 }
 
 std::optional<Goal> SaveCyclePlanner::raise(const Scene& scene) {

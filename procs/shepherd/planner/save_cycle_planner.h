@@ -102,6 +102,10 @@ class SaveCyclePlanner : public Planner {
   std::optional<Goal> start_over(const Scene& scene);
   std::optional<Goal> verify(const Scene& scene);
   std::optional<Goal> watch_turn(const Scene& scene);
+  // While the tool waits lowered for the target: another sheep needing saving
+  // that would leave the field before the arm, raised only after the rest of
+  // this wait (wait_left_s), could reach it, but not if it went now.
+  bool another_sheep_needs_the_arm(const Scene& scene, double wait_left_s) const;
   std::optional<Goal> send(const Scene& scene, Plane plane, double x_mm, double y_mm,
                            double theta_rad, int target, Phase next);
   std::optional<Goal> raise(const Scene& scene);
