@@ -26,7 +26,8 @@ enum class CentreMethod {
   kCentroid,   // grey-weighted centroid of the run +-2 px above the local background
   kGaussian,   // three-point Gaussian (log-parabola) fit at the run's brightest pixel
   kSteger,     // Steger's line point: Gaussian-derivative Hessian at the brightest
-               // pixel, offset along the line normal, carried back to the row
+               // pixel gives the line's normal; the zero of the derivative across
+               // the line, interpolated along the row (see the .cc)
 };
 
 const char* centre_method_name(CentreMethod m);
