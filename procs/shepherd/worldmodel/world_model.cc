@@ -23,6 +23,7 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !finite_positive(c.obscured_gate_px) || !finite_nonneg(c.obscured_gate_growth_px_s) ||
       !(c.obscured_gate_max_px >= c.obscured_gate_px) || !(c.merge_area_ratio > 1.0) ||
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
+      !finite_nonneg(c.dead_reckon_max_s) ||
       !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
       !(c.reacquire_area_ratio >= c.partial_area_ratio && c.reacquire_area_ratio < 1.0) ||
       !std::isfinite(c.mark_height_mm) || !finite_nonneg(c.mark_diameter_mm))
@@ -45,7 +46,7 @@ bool WorldModel::inside_field(const Eigen::Vector2d& px) const {
 }
 
 Eigen::Vector2d WorldModel::dead_reckoned(const Track& t) const {
-  return t.seen_px + t.filter.velocity() * (now_s_ - t.seen_s);
+  return t.seen_px + t.filter.velocity() * std::min(now_s_ - t.seen_s, config_.dead_reckon_max_s);
 }
 
 void WorldModel::see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire) {

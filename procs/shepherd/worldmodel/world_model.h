@@ -86,7 +86,17 @@ struct WorldModelConfig {
   // dead-reckoned position), capped.
   double obscured_gate_px = 10.0;
   double obscured_gate_growth_px_s = 20.0;
-  double obscured_gate_max_px = 80.0;
+  // The cap: at the paper's 8 mm/s (2.9 px/s) a sheep turned round by the
+  // lowered tool is at most 2 * 2.9 * 20 = 116 px from where it was reckoned
+  // after 20 s under the arm (issue 13: with an 80 px cap and death after
+  // 10 s such sheep came back with new ids).
+  double obscured_gate_max_px = 120.0;
+  // Dead-reckoning extrapolates the last velocity this long at most, s. A
+  // sheep hidden longer is under the lowered tool, being turned, not walking
+  // on: reckoning it further walks its estimate through the tool and off the
+  // field. Short occlusions (the arm passing over a walking sheep) keep the
+  // whole extrapolation.
+  double dead_reckon_max_s = 3.0;
   // A blob this many times an object's usual area, on which two objects'
   // predictions fall, is their two marks merged.
   double merge_area_ratio = 1.4;
@@ -106,8 +116,10 @@ struct WorldModelConfig {
   // known object's would be. Without it a new track starts from the sliding
   // centroid of the part that shows and is off by px for the first second.
   double mark_diameter_mm = 0.0;
-  double max_obscured_s = 10.0;  // lost: stop dead-reckoning
-  double report_dead_s = 2.0;    // keep reporting a dead object this long
+  // Lost: reported dead. At 8 mm/s a sheep may take 20 s to walk out from
+  // under a lowered tool.
+  double max_obscured_s = 30.0;
+  double report_dead_s = 2.0;  // keep reporting a dead object this long
 };
 
 struct WorldModelCounters {

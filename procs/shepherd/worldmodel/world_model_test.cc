@@ -223,6 +223,36 @@ TEST(WorldModelTest, SheepTurnedRoundWhileHiddenIsReacquiredAndItsVelocityFollow
   EXPECT_LT(a->velocity_px_s.x(), 0.0) << "velocity not reversed 5 frames after reappearing";
 }
 
+// Issue 13, at the paper's 8 mm/s (2.9 px/s): a sheep walks into the lowered
+// tool, is hidden under the arm for 20 s, turned round there, and comes out
+// walking back. It keeps its id, and while hidden its estimate is not walked
+// on through the tool (dead-reckoning stops after dead_reckon_max_s).
+TEST(WorldModelTest, SlowSheepHiddenLongUnderTheToolAndTurnedKeepsItsId) {
+  auto wm = make_model();
+  std::mt19937 rng(8);
+  constexpr double kSlow = 2.9;  // px/s
+  const Sheep in{{200, 200}, {kSlow, 0}};
+  feed(wm, {in}, 0, 150, rng);  // 5 s seen
+  const int back_at = 150 + 20 * 30;
+  feed(
+      wm, {in}, 150, back_at, [](size_t, int) { return true; }, rng);
+  const auto hidden = by_id(wm, 1);
+  ASSERT_TRUE(hidden);
+  EXPECT_EQ(hidden->state, ObjectState::kObscured);
+  // Seen at x ~ 214.5 px; reckoned 3 s on, not 20.
+  EXPECT_NEAR(hidden->position_px.x(), in.at(150).x() + 3.0 * kSlow, 2.0);
+  // Turned at once when hidden: it comes out 20 s x 2.9 px/s behind where it
+  // went under, walking back.
+  const Eigen::Vector2d out_at = in.at(150) - Eigen::Vector2d(kSlow * 20.0, 0.0);
+  const Sheep back{out_at - Eigen::Vector2d(-kSlow, 0) * (back_at * kFrameUs * 1e-6), {-kSlow, 0}};
+  feed(wm, {back}, back_at, back_at + 30, rng);
+  const auto a = by_id(wm, 1);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->state, ObjectState::kVisible);
+  EXPECT_EQ(wm.counters().objects_created, 1) << "came back with a new id";
+  EXPECT_NEAR(a->position_px.x(), back.at(back_at + 29).x(), 1.0);
+}
+
 TEST(WorldModelTest, Stage4NewSheepEnteringGetsANewIdAndIdsAreNeverReused) {
   auto wm = make_model();
   std::mt19937 rng(6);
@@ -239,7 +269,9 @@ TEST(WorldModelTest, Stage4NewSheepEnteringGetsANewIdAndIdsAreNeverReused) {
   feed(
       wm, {a, b}, 60, end, [](size_t i, int) { return i == 0; }, rng);
   EXPECT_EQ(by_id(wm, 1), std::nullopt);  // dead, then forgotten
-  const Sheep c2{{170, 200}, {0, kSpeed}};
+  // A newcomer at (170, 200) px at frame `end`, where a was last seen.
+  const Sheep c2{Eigen::Vector2d(170, 200) - Eigen::Vector2d(0, kSpeed) * (end * kFrameUs * 1e-6),
+                 {0, kSpeed}};
   feed(wm, {c2}, 0, 1, rng);  // utime goes back: ignored
   feed(wm, {b, c2}, end, end + 10, rng);
   EXPECT_EQ(nearest(wm, c2.at(end + 9))->id, 3);
