@@ -24,7 +24,8 @@ class ForegroundGate {
   int learn(const Window& window);
 
   bool is_foreground(const Pulse& p) const {
-    return p.has_range() && p.range_m < config_.background_range_m &&
+    // A miss (NaN) fails both comparisons.
+    return p.range_m < config_.background_range_m &&
            std::abs(p.range_m - median_range_m_) <= config_.depth_gate_m;
   }
 

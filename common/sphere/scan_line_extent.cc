@@ -45,15 +45,39 @@ LineFit regress(const std::vector<double>& t, const std::vector<double>& x,
 
 namespace {
 
-// Median azimuth step between consecutive pulses of a line over the whole
-// window: the pulse spacing (encoder noise is symmetric, so the median of
-// thousands of steps is within a few urad of it).
+// sin and cos of the small angles within a scan line's chord (|a| < 0.1 rad
+// at 1 m): Taylor series accurate to 1e-13 below 0.2 rad, five times faster
+// than the library calls that dominated the per-point loop.
+inline double small_sin(double a) {
+  if (std::abs(a) > 0.2) return std::sin(a);
+  constexpr double k3 = 1.0 / 6, k5 = 1.0 / 120, k7 = 1.0 / 5040, k9 = 1.0 / 362880;
+  const double a2 = a * a;
+  return a * (1.0 - a2 * (k3 - a2 * (k5 - a2 * (k7 - a2 * k9))));
+}
+inline double small_cos(double a) {
+  if (std::abs(a) > 0.2) return std::cos(a);
+  constexpr double k2 = 0.5, k4 = 1.0 / 24, k6 = 1.0 / 720, k8 = 1.0 / 40320, k10 = 1.0 / 3628800;
+  const double a2 = a * a;
+  return 1.0 - a2 * (k2 - a2 * (k4 - a2 * (k6 - a2 * (k8 - a2 * k10))));
+}
+inline double small_atan(double x) {
+  if (std::abs(x) > 0.1) return std::atan(x);
+  constexpr double k3 = 1.0 / 3, k5 = 1.0 / 5, k7 = 1.0 / 7, k9 = 1.0 / 9, k11 = 1.0 / 11;
+  const double x2 = x * x;
+  return x * (1.0 - x2 * (k3 - x2 * (k5 - x2 * (k7 - x2 * (k9 - x2 * k11)))));
+}
+
+// The azimuth step between pulses: each line's mean step (its azimuth span
+// over its pulse count; encoder noise enters as sigma sqrt(2) / (n - 1)),
+// the median over the lines.
 double azimuth_step(const Window& window) {
-  std::vector<double> steps;
+  thread_local std::vector<double> steps;
+  steps.clear();
   for (const ScanLine& line : window.lines) {
-    for (size_t i = 1; i < line.pulses.size(); ++i) {
-      steps.push_back(std::abs(line.pulses[i].azimuth_rad - line.pulses[i - 1].azimuth_rad));
-    }
+    const size_t n = line.pulses.size();
+    if (n < 3) continue;
+    steps.push_back(std::abs(line.pulses[n - 1].azimuth_rad - line.pulses[0].azimuth_rad) /
+                    static_cast<double>(n - 1));
   }
   if (steps.empty()) return 0.0;
   const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
@@ -67,12 +91,8 @@ struct Rejections {
 };
 
 std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line,
-                                    size_t index, const ForegroundGate& gate, double delta,
+                                    size_t index, const std::vector<size_t>& hits, double delta,
                                     Rejections& rejected) {
-  std::vector<size_t> hits;
-  for (size_t i = 0; i < line.pulses.size(); ++i) {
-    if (gate.is_foreground(line.pulses[i])) hits.push_back(i);
-  }
   if (hits.empty()) return std::nullopt;
   // Section 3: a line whose edge of the sphere cannot be found (the sphere
   // cut by the frame's side, or the line cut by the window) is useless.
@@ -95,7 +115,7 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
   // Eq. 12-13: align the line with the azimuth axis. The slope theta of
   // elevation on azimuth; we rotate by -theta (the printed +theta doubles
   // the slope), eq. 32-33 rotate back.
-  double theta = 0.0;
+  double slope = 0.0;
   if (m >= 3) {
     double ma = 0.0, me = 0.0;
     for (size_t i : hits) {
@@ -110,10 +130,14 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
       saa += da * da;
       sae += da * (line.pulses[i].elevation_rad - me);
     }
-    if (saa > 0.0) theta = std::atan(sae / saa);
+    if (saa > 0.0) slope = sae / saa;
   }
-  const double ct = std::cos(theta), st = std::sin(theta);
-  std::vector<double> a(hits.size()), r(hits.size());
+  // cos and sin of theta = atan(slope) without the library calls.
+  const double ct = 1.0 / std::sqrt(1.0 + slope * slope), st = slope * ct;
+  const double theta = small_atan(slope);
+  thread_local std::vector<double> a, r;
+  a.resize(hits.size());
+  r.resize(hits.size());
   double phi = 0.0;
   for (size_t k = 0; k < hits.size(); ++k) {
     const Pulse& p = line.pulses[hits[k]];
@@ -126,35 +150,50 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
   // Full extent between the edges (eq. 19 without its halving; see header).
   const double lambda = std::abs(a.back() - a.front()) + (cfg.edge_correction ? delta : 0.0);
   const double half = 0.5 * lambda;
-  const double chord_factor = cfg.exact_geometry ? std::sin(half) : std::tan(half);
+  const double chord_factor =
+      cfg.exact_geometry ? small_sin(half) : small_sin(half) / small_cos(half);
 
   // Eq. 20-26: s_0 from the ends' ranges, then s_k, l_k.
   double s = std::max(r.front(), r.back());
   double l = s * chord_factor;
   const double sig_lambda2 = 2.0 * cfg.angle_sigma_rad * cfg.angle_sigma_rad +
                              (cfg.edge_correction ? delta * delta / 6.0 : 0.0);
-  for (int k = 0; k < std::max(1, cfg.iterations); ++k) {
+  // d_i, x_i (eq. 23-24) do not change over the iterations.
+  thread_local std::vector<double> dd, xx;
+  dd.resize(a.size());
+  xx.resize(a.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double ai = a[i] - mid;  // eq. 15
+    dd[i] = r[i] * small_cos(ai);  // eq. 23
+    xx[i] = r[i] * small_sin(ai);  // eq. 24
+  }
+  const double sr2 = cfg.range_sigma_m * cfg.range_sigma_m;
+  const double sa2 = cfg.angle_sigma_rad * cfg.angle_sigma_rad;
+  const int iterations = std::max(1, cfg.iterations);
+  double zsens = 0.0;  // mean l / z_i: how s moves with l (for the z variance)
+  for (int k = 0; k < iterations; ++k) {
     l = s * chord_factor;  // eq. 22
-    const double sig_l = 0.5 * s * std::sqrt(sig_lambda2);
+    const double sig_l2 = 0.25 * s * s * sig_lambda2;
     double sum = 0.0, wsum = 0.0;
+    zsens = 0.0;
     for (size_t i = 0; i < a.size(); ++i) {
-      const double ai = a[i] - mid;                              // eq. 15
-      const double d = r[i] * std::cos(ai);                      // eq. 23
-      const double x = r[i] * std::sin(ai);                      // eq. 24
+      const double x = xx[i];
       const double z = std::sqrt(std::max(0.0, l * l - x * x));  // eq. 25
       double w = 1.0;
       if (cfg.weighted_regression) {
-        // var(d + z): range noise, x noise through dz/dx = -x/z, l noise through l/z.
-        const double zf = std::max(z, 0.05 * l);
-        const double ang = r[i] * cfg.angle_sigma_rad;
-        w = 1.0 / (cfg.range_sigma_m * cfg.range_sigma_m + (x / zf) * (x / zf) * ang * ang +
-                   (l / zf) * (l / zf) * sig_l * sig_l);
+        // var(d + z): range noise, x noise through dz/dx = -x/z, l noise
+        // through dz/dl = l/z (z floored: the chord's very ends).
+        const double inv_z = 1.0 / std::max(z, 0.05 * l);
+        const double xz = x * inv_z, lz = l * inv_z;
+        w = 1.0 / (sr2 + xz * xz * r[i] * r[i] * sa2 + lz * lz * sig_l2);
+        zsens += std::min(lz, 1.0 / 0.3);
       }
-      sum += w * (d + z);
+      sum += w * (dd[i] + z);
       wsum += w;
     }
     s = sum / wsum;  // eq. 26
   }
+  zsens /= m;
   const double u = cfg.sphere_radius_m;
   e.theta_rad = theta;
   e.phi_rad = phi;
@@ -168,13 +207,6 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
   const double sa = cfg.angle_sigma_rad;
   const double quant = cfg.edge_correction ? delta * delta / 12.0 : 0.0;
   const double sig_l = 0.5 * s * std::sqrt(sig_lambda2);
-  double zsens = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    const double x = r[i] * std::sin(a[i] - mid);
-    const double z = std::max(std::sqrt(std::max(0.0, l * l - x * x)), 0.3 * l);
-    zsens += l / z;
-  }
-  zsens /= m;
   e.variance_m2.x() = s * s * (sa * sa + quant) / 2.0;
   e.variance_m2.y() =
       s * s * sa * sa / m + sig_l * sig_l * l * l / (e.y_abs_m * e.y_abs_m + sig_l * u);
@@ -184,15 +216,17 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
 
 // Completes a line's estimate once its sign is chosen: eq. 27-37.
 void finish(const ScanLineExtentConfig& cfg, LineExtent& e) {
-  const double e_off = e.sign * std::atan(e.y_abs_m / e.s_m);    // eq. 29
+  const double e_off = e.sign * small_atan(e.y_abs_m / e.s_m);   // eq. 29
   e.range_m = cfg.exact_geometry ? std::hypot(e.s_m, e.y_abs_m)  // the centre off the line's plane
-                                 : e.s_m * std::cos(e_off);      // eq. 27 as printed
+                                 : e.s_m * small_cos(e_off);     // eq. 27 as printed
   const double a_dot = e.mid_azimuth_rad;                        // eq. 18, 30
   const double e_dot = e_off + e.phi_rad;                        // eq. 31
-  const double ct = std::cos(e.theta_rad), st = std::sin(e.theta_rad);
+  const double ct = small_cos(e.theta_rad), st = small_sin(e.theta_rad);
   e.azimuth_rad = a_dot * ct - e_dot * st;  // eq. 32-33 (inverse of our eq. 12-13)
   e.elevation_rad = a_dot * st + e_dot * ct;
-  e.position_m = to_cartesian(e.azimuth_rad, e.elevation_rad, e.range_m);
+  const double ca = small_cos(e.azimuth_rad), sa = small_sin(e.azimuth_rad);
+  const double ce = small_cos(e.elevation_rad), se = small_sin(e.elevation_rad);
+  e.position_m = {e.range_m * sa * ce, e.range_m * se, e.range_m * ca * ce};  // eq. 35-37
 }
 
 // Eq. 28-29's sign for each line of one pass over the sphere (a run of
@@ -274,9 +308,13 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
   int current = -1;
   bool in_pass = false;
   for (size_t j = 0; j < window.lines.size(); ++j) {
-    bool any = false;
-    for (const Pulse& p : window.lines[j].pulses) any = any || gate.is_foreground(p);
-    if (!any) {
+    thread_local std::vector<size_t> hits;
+    hits.clear();
+    const std::vector<Pulse>& pulses = window.lines[j].pulses;
+    for (size_t i = 0; i < pulses.size(); ++i) {
+      if (gate.is_foreground(pulses[i])) hits.push_back(i);
+    }
+    if (hits.empty()) {
       in_pass = false;
       continue;
     }
@@ -284,7 +322,7 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
       ++current;
       in_pass = true;
     }
-    std::optional<LineExtent> e = extent_of(config_, window.lines[j], j, gate, delta, rejected);
+    std::optional<LineExtent> e = extent_of(config_, window.lines[j], j, hits, delta, rejected);
     if (e) {
       out.push_back(*e);
       pass_of.push_back(current);

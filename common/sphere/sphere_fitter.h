@@ -37,7 +37,7 @@ struct SphereFitterConfig {
   int min_points = 12;
   int max_iterations = 50;
   double step_tolerance_m = 1e-7;
-  bool geometric_weighted = false;  // improved residual and weights (see above)
+  bool geometric_weighted = false;      // improved residual and weights (see above)
   bool noise_offset_correction = true;  // with geometric_weighted: subtract sigma_perp^2 / 2R
   double range_sigma_m = 0.02;
   double angle_sigma_rad = 0.78e-3;

@@ -20,8 +20,8 @@ ScanLineExtentConfig sle_config(const LocatorConfig& c) {
 }
 
 SphereFitterConfig fit_config(const LocatorConfig& c) {
-  SphereFitterConfig f = c.variant == Variant::kPaper ? SphereFitterConfig::paper()
-                                                      : SphereFitterConfig::improved();
+  SphereFitterConfig f =
+      c.variant == Variant::kPaper ? SphereFitterConfig::paper() : SphereFitterConfig::improved();
   f.gate.background_range_m = c.background_range_m;
   return f;
 }
@@ -49,7 +49,7 @@ SphereLocator::SphereLocator(const LocatorConfig& config)
 Estimate SphereLocator::locate(const Window& window, double* cpu_us) const {
   const double start = thread_cpu_us();
   Estimate e = config_.algorithm == Algorithm::kScanLineExtent ? sle_.locate(window)
-                                                                : fitter_.locate(window);
+                                                               : fitter_.locate(window);
   if (cpu_us) *cpu_us = thread_cpu_us() - start;
   return e;
 }

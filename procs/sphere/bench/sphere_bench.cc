@@ -108,19 +108,23 @@ std::vector<Method> methods() {
   fit("fit-geometric-weighted", f);
   fit("fit-improved", SphereFitterConfig::improved());
   if (pcl_peer_available()) {
-    m.push_back({"pcl-ransac-sphere", "peer", [](const Window& w) { return pcl_sphere_locate(w); }});
+    m.push_back(
+        {"pcl-ransac-sphere", "peer", [](const Window& w) { return pcl_sphere_locate(w); }});
   }
   return m;
 }
 
-void print_table(const nlohmann::json& results, const std::vector<Method>& ms, int trials) {
-  std::printf("\nPosition error, mm (bias / sigma eq. 11), %d trials per distance; error = estimate - truth\n",
-              trials);
+void print_table(const nlohmann::json& results, const std::vector<Method>& ms,
+                 const std::vector<double>& distances, int trials) {
+  std::printf(
+      "\nPosition error, mm (bias / sigma eq. 11), %d trials per distance; error = estimate - "
+      "truth\n",
+      trials);
   for (const Method& m : ms) {
     std::printf("%-28s", m.name.c_str());
-    for (double d : paper::kDistancesM) std::printf(" | %5.0f m: x        y        z      ", d);
+    for (double d : distances) std::printf(" | %5.0f m: x        y        z      ", d);
     std::printf("\n%-28s", "");
-    for (double d : paper::kDistancesM) {
+    for (double d : distances) {
       const auto& j = results[m.name][std::to_string(static_cast<int>(d))];
       if (!j.contains("position_m_bias")) {
         std::printf(" | %-40s", "no estimates");
@@ -137,12 +141,13 @@ void print_table(const nlohmann::json& results, const std::vector<Method>& ms, i
   std::printf("\nCPU per trial, us (min / median / max) and velocity sigma, mm/s (x y z)\n");
   for (const Method& m : ms) {
     std::printf("%-28s", m.name.c_str());
-    for (double d : paper::kDistancesM) {
+    for (double d : distances) {
       const auto& j = results[m.name][std::to_string(static_cast<int>(d))];
       if (!j.contains("cpu_us_min")) continue;
       std::printf(" | %.0f/%.0f/%.0f v %.0f %.0f %.0f", j["cpu_us_min"].get<double>(),
                   j["cpu_us_median"].get<double>(), j["cpu_us_max"].get<double>(),
-                  1e3 * j["velocity_m_s_sigma"][0].get<double>(), 1e3 * j["velocity_m_s_sigma"][1].get<double>(),
+                  1e3 * j["velocity_m_s_sigma"][0].get<double>(),
+                  1e3 * j["velocity_m_s_sigma"][1].get<double>(),
                   1e3 * j["velocity_m_s_sigma"][2].get<double>());
     }
     std::printf("\n");
@@ -162,6 +167,9 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "write the results as JSON");
   app.add_option("--trials", trials, "trials per distance")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "first noise seed");
+  std::string only;
+  app.add_option("--distances", distances, "distances, m (default the paper's six)");
+  app.add_option("--only", only, "run only the methods whose name contains this");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -178,9 +186,10 @@ int main(int argc, char** argv) {
     const double d = paper::kDistancesM[i];
     const RangeSimulatorConfig c = RangeSimulator::paper_trial(d, 1);
     const double frames = RasterScanner(c.scanner).frames_in(0.5);
-    std::printf("  %4.0f m: %.4f / %.2f   %.4f / %.2f   (x/y speed %.1f cm/s; Table 1 prints %.1f)\n", d,
-                c.scanner.half_extent_deg, paper::kTable2HalfExtentDeg[i], frames, paper::kTable2Frames[i],
-                100 * table1_xy_speed_m_s(d), paper::kTable1TotalCmS[i]);
+    std::printf(
+        "  %4.0f m: %.4f / %.2f   %.4f / %.2f   (x/y speed %.1f cm/s; Table 1 prints %.1f)\n", d,
+        c.scanner.half_extent_deg, paper::kTable2HalfExtentDeg[i], frames, paper::kTable2Frames[i],
+        100 * table1_xy_speed_m_s(d), paper::kTable1TotalCmS[i]);
     out["table2"].push_back({{"distance_m", d},
                              {"half_extent_deg", c.scanner.half_extent_deg},
                              {"paper_half_extent_deg", paper::kTable2HalfExtentDeg[i]},
@@ -190,7 +199,10 @@ int main(int argc, char** argv) {
                              {"paper_table1_xy_speed_m_s", paper::kTable1TotalCmS[i] / 100}});
   }
 
-  const std::vector<Method> ms = methods();
+  std::vector<Method> ms = methods();
+  if (!only.empty()) {
+    std::erase_if(ms, [&](const Method& m) { return m.name.find(only) == std::string::npos; });
+  }
   std::map<std::string, std::map<int, Tally>> tallies;
   for (double d : distances) {
     for (int k = 0; k < trials; ++k) {
@@ -216,12 +228,15 @@ int main(int argc, char** argv) {
   nlohmann::json results;
   for (const Method& m : ms) {
     for (double d : distances) {
-      results[m.name][std::to_string(static_cast<int>(d))] = summarise(tallies[m.name][static_cast<int>(d)]);
+      results[m.name][std::to_string(static_cast<int>(d))] =
+          summarise(tallies[m.name][static_cast<int>(d)]);
     }
     results[m.name]["family"] = m.family;
   }
-  print_table(results, ms, trials);
-  std::printf("\nPaper, Table 3 (Sphere Fitting) / Table 4 (Scan Line Extent), 200 MHz Pentium Pro, s min-max:\n");
+  print_table(results, ms, distances, trials);
+  std::printf(
+      "\nPaper, Table 3 (Sphere Fitting) / Table 4 (Scan Line Extent), 200 MHz Pentium Pro, s "
+      "min-max:\n");
   for (int i = 0; i < 6; ++i) {
     std::printf("  %4.0f m: %.2f-%.2f   %.4f-%.4f\n", paper::kDistancesM[i], paper::kTable3MinS[i],
                 paper::kTable3MaxS[i], paper::kTable4MinS[i], paper::kTable4MaxS[i]);
@@ -232,8 +247,10 @@ int main(int argc, char** argv) {
   out["seed"] = seed;
   out["methods"] = results;
   for (int i = 0; i < 6; ++i) {
-    out["paper"]["table3_sphere_fitting_s"].push_back({paper::kTable3MinS[i], paper::kTable3MaxS[i]});
-    out["paper"]["table4_scan_line_extent_s"].push_back({paper::kTable4MinS[i], paper::kTable4MaxS[i]});
+    out["paper"]["table3_sphere_fitting_s"].push_back(
+        {paper::kTable3MinS[i], paper::kTable3MaxS[i]});
+    out["paper"]["table4_scan_line_extent_s"].push_back(
+        {paper::kTable4MinS[i], paper::kTable4MaxS[i]});
   }
   out["paper"]["figure3"] = paper::kFigure3;
   out["paper"]["figure4"] = paper::kFigure4;

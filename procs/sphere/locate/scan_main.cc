@@ -29,12 +29,15 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   int trials = 1;
   std::string out_path, truth_path;
-  app.add_option("--distance-m", distance_m, "distance to the sphere, m")->check(CLI::Range(0.2, 1000.0));
+  app.add_option("--distance-m", distance_m, "distance to the sphere, m")
+      ->check(CLI::Range(0.2, 1000.0));
   app.add_option("--seed", seed, "noise seed");
   app.add_option("--trials", trials, "number of consecutive trials")->check(CLI::Range(1, 100000));
   app.add_option("--trial-s", trial_s, "trial length, s")->check(CLI::Range(0.01, 60.0));
-  app.add_option("--range-sigma-m", range_sigma, "range noise sigma, m")->check(CLI::Range(0.0, 10.0));
-  app.add_option("--angle-sigma-rad", angle_sigma, "encoder noise sigma, rad")->check(CLI::Range(0.0, 0.1));
+  app.add_option("--range-sigma-m", range_sigma, "range noise sigma, m")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--angle-sigma-rad", angle_sigma, "encoder noise sigma, rad")
+      ->check(CLI::Range(0.0, 0.1));
   app.add_option("--background-below-deg", background_below_deg,
                  "a wall at 60 m behind pulses lower than this elevation")
       ->check(CLI::Range(-90.0, 90.0))
@@ -59,8 +62,8 @@ int main(int argc, char** argv) {
     int64_t next_line = 0;
     for (int k = 0; k < trials; ++k) {
       const double t0 = k * trial_s;
-      RangeSimulatorConfig c =
-          RangeSimulator::paper_trial(distance_m, seed * 100003ULL + static_cast<uint64_t>(k), t0, trial_s);
+      RangeSimulatorConfig c = RangeSimulator::paper_trial(
+          distance_m, seed * 100003ULL + static_cast<uint64_t>(k), t0, trial_s);
       c.noise = {range_sigma, angle_sigma};
       c.background.enabled = background;
       c.background.below_elevation_deg = background_below_deg;
@@ -70,12 +73,13 @@ int main(int argc, char** argv) {
       for (ScanLine& l : lines) all.push_back(std::move(l));
       if (truth) {
         const Eigen::Vector3d p = c.sphere.centre_at(t0);
-        nlohmann::json j = {{"trial", k},
-                            {"t0_s", t0},
-                            {"position_m", {p.x(), p.y(), p.z()}},
-                            {"velocity_m_s",
-                             {c.sphere.velocity_m_s.x(), c.sphere.velocity_m_s.y(), c.sphere.velocity_m_s.z()}},
-                            {"half_extent_deg", c.scanner.half_extent_deg}};
+        nlohmann::json j = {
+            {"trial", k},
+            {"t0_s", t0},
+            {"position_m", {p.x(), p.y(), p.z()}},
+            {"velocity_m_s",
+             {c.sphere.velocity_m_s.x(), c.sphere.velocity_m_s.y(), c.sphere.velocity_m_s.z()}},
+            {"half_extent_deg", c.scanner.half_extent_deg}};
         truth << j.dump() << "\n";
       }
     }
