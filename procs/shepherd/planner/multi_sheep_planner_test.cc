@@ -391,6 +391,51 @@ TEST(MultiSheepPlannerTest, HiddenSheepUnderTheLoweredToolCountsAsTurned) {
   EXPECT_EQ(again->target, 1);
 }
 
+// A sheep saved while hidden that stays hidden (the raised arm still over it)
+// keeps the world model's velocity from before the touch: it is no candidate
+// after the cool-down either, until seen again. Issue 13's whole-system run
+// lowered onto such a sheep every 3 s for 25 s.
+TEST(MultiSheepPlannerTest, SheepSavedWhileHiddenIsNoCandidateUntilSeenAgain) {
+  const PlannerConfig config;
+  MultiSheepPlanner planner{config};
+  const auto move = planner.plan(make_scene({kA}));
+  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
+  const auto lower = planner.plan(advance({kA}, 2.0, move->x_mm, move->y_mm, false, 2.0));
+  ASSERT_TRUE(lower.has_value() && lower->plane == Plane::kObject);
+  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
+  Sheep hidden = kA;  // over the tool, obscured, still "walking out"
+  hidden.x_mm = lower->x_mm;
+  hidden.y_mm = lower->y_mm;
+  hidden.state = SheepState::kObscured;
+  Scene s = make_scene({hidden}, lower->x_mm, lower->y_mm, 10.0);
+  s.arm.lowered = true;
+  EXPECT_FALSE(planner.plan(s).has_value());
+  s.now_s += config.touch_confirm_s + 0.05;
+  const auto raise = planner.plan(s);
+  ASSERT_TRUE(raise.has_value());
+  ASSERT_EQ(planner.status().saves, 1);
+  ASSERT_TRUE(planner.on_motion_done(raise->goal_id, true));
+  // Long after the cool-down, still hidden: parked or parking, never back.
+  Scene up =
+      make_scene({hidden}, raise->x_mm, raise->y_mm, s.now_s + 3.0 * config.resave_cooldown_s);
+  for (int i = 0; i < 3; ++i) {
+    const auto g = planner.plan(up);
+    if (g) {
+      EXPECT_EQ(g->target, -1) << "went back to a sheep saved and not seen since";
+      ASSERT_TRUE(planner.on_motion_done(g->goal_id, true));
+      up.arm.x_mm = g->x_mm;
+      up.arm.y_mm = g->y_mm;
+    }
+    up.now_s += 1.0;
+  }
+  // Seen again and still walking out: a candidate again.
+  hidden.state = SheepState::kVisible;
+  up.sheep = {hidden};
+  const auto again = planner.plan(up);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->target, 1);
+}
+
 TEST(MultiSheepPlannerTest, LoweredToolIsRaisedWhenTheTargetDisappears) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const auto move = planner.plan(make_scene({kA}));

@@ -262,10 +262,16 @@ std::optional<Goal> SaveCyclePlanner::step(const Scene& scene) {
   }
 }
 
-std::vector<int> SaveCyclePlanner::save_candidates(const Scene& scene) const {
+std::vector<int> SaveCyclePlanner::save_candidates(const Scene& scene) {
+  // A saved sheep seen again (visible) is judged on its new velocity.
+  for (const Sheep& s : scene.sheep) {
+    if (s.state == SheepState::kVisible) unseen_since_save_.erase(s.id);
+  }
   std::vector<int> out;
   for (int index : rules_.candidates_by_urgency(scene.sheep)) {
-    const auto it = cooldown_until_s_.find(scene.sheep[static_cast<size_t>(index)].id);
+    const int id = scene.sheep[static_cast<size_t>(index)].id;
+    if (unseen_since_save_.count(id) > 0) continue;
+    const auto it = cooldown_until_s_.find(id);
     if (it == cooldown_until_s_.end() || scene.now_s >= it->second) out.push_back(index);
   }
   return out;
@@ -416,6 +422,7 @@ std::optional<Goal> SaveCyclePlanner::watch_turn(const Scene& scene) {
     ++status_.saves;
     target_saved_ = true;
     cooldown_until_s_[target_] = scene.now_s + config().resave_cooldown_s;
+    if (target->state != SheepState::kVisible) unseen_since_save_.insert(target_);
     body_over_tool_since_s_ = -1.0;
     return raise(scene);
   };

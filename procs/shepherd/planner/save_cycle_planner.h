@@ -20,6 +20,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -76,8 +77,9 @@ class SaveCyclePlanner : public Planner {
 
   const FieldRules& rules() const { return rules_; }
   // Indices into scene.sheep of the sheep needing saving, soonest to leave
-  // first, without those saved less than resave_cooldown_s ago.
-  std::vector<int> save_candidates(const Scene& scene) const;
+  // first, without those saved less than resave_cooldown_s ago or saved while
+  // hidden and not seen since.
+  std::vector<int> save_candidates(const Scene& scene);
   const PlannerConfig& config() const { return rules_.config(); }
   // Delay between reaching the intercept in the elevation plane and the
   // tool being down, plus the overheads of the move and the lowering goals.
@@ -139,6 +141,9 @@ class SaveCyclePlanner : public Planner {
   double retry_after_s_ = -1e300;
   double body_over_tool_since_s_ = -1.0;    // -1: the target's body is not over the tool
   std::map<int, double> cooldown_until_s_;  // sheep id -> time it may be a candidate again
+  // Sheep saved and not seen (visible) since: their velocity is the one from
+  // before the touch, so they are no candidates until seen again.
+  std::set<int> unseen_since_save_;
 };
 
 }  // namespace ephor::planner

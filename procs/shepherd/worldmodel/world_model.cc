@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -85,8 +86,18 @@ void WorldModel::hide(Track& t) {
   // was seen (seen_px / seen_s, already set).
 }
 
-void WorldModel::kill(Track& t) {
+std::vector<std::string> WorldModel::take_deaths() {
+  std::vector<std::string> out;
+  out.swap(deaths_);
+  return out;
+}
+
+void WorldModel::kill(Track& t, const char* why) {
   if (t.state == ObjectState::kDead) return;
+  char text[160];
+  std::snprintf(text, sizeof text, "object %d dead: %s at (%.0f, %.0f) px, last seen %.1f s ago",
+                t.id, why, t.estimate_px.x(), t.estimate_px.y(), now_s_ - t.seen_s);
+  deaths_.emplace_back(text);
   t.state = ObjectState::kDead;
   t.dead_s = now_s_;
   ++counters_.objects_died;
@@ -192,7 +203,7 @@ void WorldModel::stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>&
       continue;
     }
     see(t, blobs[b], areas[b], false);
-    if (!inside_field(t.filter.position())) kill(t);  // escaped
+    if (!inside_field(t.filter.position())) kill(t, "left the field");  // escaped
   }
 }
 
@@ -231,7 +242,7 @@ void WorldModel::stage2_obscured(const std::vector<Eigen::Vector2d>& blobs,
     }
     ++counters_.reacquired;
     see(t, blobs[m.blob], areas[m.blob], true);
-    if (!inside_field(t.filter.position())) kill(t);
+    if (!inside_field(t.filter.position())) kill(t, "re-acquired outside the field");
   }
 }
 
@@ -239,7 +250,11 @@ void WorldModel::stage3_dead_reckon() {
   for (auto& [id, t] : tracks_) {
     if (t.state != ObjectState::kObscured) continue;
     t.estimate_px = dead_reckoned(t);
-    if (!inside_field(t.estimate_px) || now_s_ - t.seen_s > config_.max_obscured_s) kill(t);
+    if (!inside_field(t.estimate_px)) {
+      kill(t, "reckoned outside the field");
+    } else if (now_s_ - t.seen_s > config_.max_obscured_s) {
+      kill(t, "hidden too long");
+    }
   }
 }
 

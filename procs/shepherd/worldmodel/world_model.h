@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -149,6 +150,10 @@ class WorldModel {
   // Every live object and the recently dead, by id, as of the last frame.
   std::vector<ObjectEstimate> objects() const;
   const WorldModelCounters& counters() const { return counters_; }
+  // Why each object died since the last call ("object 3 dead: hidden 30.0 s
+  // at (212, 140) px"), oldest first: what a log reader needs to tell a lost
+  // sheep from an escaped one.
+  std::vector<std::string> take_deaths();
   int64_t last_utime_us() const { return last_utime_us_; }
   const WorldModelConfig& config() const { return config_; }
 
@@ -179,7 +184,7 @@ class WorldModel {
   void see(Track& t, const Eigen::Vector2d& z, int area, bool reacquire);
   bool partly_hidden(const Track& t, int area, double ratio) const;
   void hide(Track& t);
-  void kill(Track& t);
+  void kill(Track& t, const char* why);
   bool inside_field(const Eigen::Vector2d& px) const;
   Eigen::Vector2d dead_reckoned(const Track& t) const;
 
@@ -194,6 +199,7 @@ class WorldModel {
   int64_t first_utime_us_ = 0;
   int64_t last_utime_us_ = 0;
   double now_s_ = 0.0;  // last frame's time since the first frame, s
+  std::vector<std::string> deaths_;
   WorldModelCounters counters_;
 };
 
