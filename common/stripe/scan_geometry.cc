@@ -74,4 +74,22 @@ std::vector<Eigen::Isometry3d> raster_projector_poses(const RasterSpec& spec) {
   return out;
 }
 
+std::vector<Eigen::Isometry3d> sweep_projector_poses(const Eigen::Vector3d& target,
+                                                     const Eigen::Vector3d& approach,
+                                                     double distance_mm,
+                                                     const Eigen::Vector3d& stripe_hint,
+                                                     double half_width_mm, double step_mm) {
+  if (!(step_mm > 0.0)) throw std::invalid_argument("sweep: step must be > 0 mm");
+  const Eigen::Isometry3d centre = projector_looking_at(target, approach, distance_mm, stripe_hint);
+  const Eigen::Vector3d across = centre.linear().col(0);
+  const int n = static_cast<int>(std::floor(half_width_mm / step_mm + 1e-9));
+  std::vector<Eigen::Isometry3d> out;
+  for (int k = -n; k <= n; ++k) {
+    Eigen::Isometry3d p = centre;
+    p.translation() += k * step_mm * across;
+    out.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace ephor::stripe

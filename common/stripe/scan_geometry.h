@@ -64,4 +64,15 @@ struct RasterSpec {
 // Throws std::invalid_argument for a non-positive step or an empty region.
 std::vector<Eigen::Isometry3d> raster_projector_poses(const RasterSpec& spec);
 
+// A sweep of parallel stripes across `target` from one viewpoint (section 5's
+// "direction of approach, direction of scan, and distance"): the projector
+// looking at the target from `distance_mm` along `approach`, its stripe as
+// near `stripe_hint` as the view allows, moved along the light plane's
+// normal by -half_width .. +half_width in steps of step_mm.
+std::vector<Eigen::Isometry3d> sweep_projector_poses(const Eigen::Vector3d& target,
+                                                     const Eigen::Vector3d& approach,
+                                                     double distance_mm,
+                                                     const Eigen::Vector3d& stripe_hint,
+                                                     double half_width_mm, double step_mm);
+
 }  // namespace ephor::stripe

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "common/stripe/plane_fit.h"
+#include "common/stripe/pyramid_apex.h"
 #include "common/stripe/stripe_scan.h"
 
 namespace ephor::stripe {
@@ -97,6 +98,32 @@ TEST(ScanTest, FlatPlateRandomErrorWithinTarget) {
   EXPECT_LT(fit->rms_mm, 0.3);
   EXPECT_NEAR(fit->centroid.z(), 20.0, 0.1);
   EXPECT_GT(fit->normal.z(), std::cos(0.001));
+}
+
+// The pyramid scene's apex (0, 0, 60) from a sweep straight down with the
+// ideal robot, and from exact surface samples shifted by a known offset.
+TEST(PyramidApexTest, LocatesTheApex) {
+  std::vector<Eigen::Vector3d> pts;
+  const Eigen::Vector3d shift(3.0, -2.0, 1.5);
+  for (double x = -70; x <= 70; x += 2.5)
+    for (double y = -70; y <= 70; y += 2.5) {
+      const double z = std::max(0.0, 60.0 - std::max(std::abs(x), std::abs(y)));
+      pts.push_back(Eigen::Vector3d(x, y, z) + shift);
+    }
+  const auto a = PyramidApex::locate(pts, Eigen::Vector3d(0, 0, 60));
+  ASSERT_TRUE(a.has_value());
+  EXPECT_LT((a->apex_mm - (Eigen::Vector3d(0, 0, 60) + shift)).norm(), 1e-6);
+
+  const StripeScene scene = StripeScene::load(std::string(EPHOR_STRIPE_SCENES) + "/pyramid.obj");
+  const StripeWorld world(scene, StripeWorkcell{}, RobotTruth::ideal());
+  const RangeFinder finder(StripeWorkcell{}, TrueArm::nominal(), SensorCalibration::drawing_cage());
+  const auto poses = sweep_projector_poses({0, 0, 60}, {0, 0, 1}, 280.0, {0, 1, 0}, 50.0, 10.0);
+  ASSERT_EQ(poses.size(), 11u);
+  const ScanResult r = run_scan(world, finder, poses, 3);
+  EXPECT_EQ(r.unreachable, 0);
+  const auto scanned = PyramidApex::locate(r.cloud(), Eigen::Vector3d(0, 0, 60));
+  ASSERT_TRUE(scanned.has_value());
+  EXPECT_LT((scanned->apex_mm - Eigen::Vector3d(0, 0, 60)).norm(), 0.2);
 }
 
 }  // namespace
