@@ -64,7 +64,7 @@ JointSample SampledJointTrajectory::at(double t_s) const {
 std::optional<SampledJointTrajectory> joint_trajectory_from_poses(
     const arm::Puma560& arm, const std::function<Eigen::Isometry3d(double)>& tool_pose,
     const Joints& start_near, double t0_s, double dt_s, int n, std::string* why,
-    double max_step_rad) {
+    double max_step_rad, bool partial) {
   std::vector<Joints> q;
   q.reserve(static_cast<std::size_t>(std::max(n, 0)));
   Joints prev = start_near;
@@ -77,6 +77,7 @@ std::optional<SampledJointTrajectory> joint_trajectory_from_poses(
         o << "goal pose out of reach at t = " << t << " s";
         *why = o.str();
       }
+      if (partial) break;
       return std::nullopt;
     }
     if (k > 0 && (*sol - prev).cwiseAbs().maxCoeff() > max_step_rad) {
@@ -85,13 +86,14 @@ std::optional<SampledJointTrajectory> joint_trajectory_from_poses(
         o << "inverse kinematics changes branch at t = " << t << " s";
         *why = o.str();
       }
+      if (partial) break;
       return std::nullopt;
     }
     q.push_back(*sol);
     prev = *sol;
   }
   if (q.size() < 3) {
-    if (why) *why = "fewer than 3 samples";
+    if (why && why->empty()) *why = "fewer than 3 samples";
     return std::nullopt;
   }
   return SampledJointTrajectory::from_positions(t0_s, dt_s, q);

@@ -57,11 +57,12 @@ class SampledJointTrajectory {
 // A goal point's tool-pose trajectory (base frame, mm) in joint space: the
 // inverse kinematics at every sample, each solution the one nearest the
 // previous (starting nearest `start_near`), derivatives by differences.
-// nullopt with `why` when a sample is out of reach or the branch would jump
-// (more than max_step_rad on a joint between samples).
+// When a sample is out of reach or the branch would jump (more than
+// max_step_rad on a joint between samples): with `partial`, the samples
+// before it (if at least 3), else nullopt; `why` says which and when.
 std::optional<SampledJointTrajectory> joint_trajectory_from_poses(
     const arm::Puma560& arm, const std::function<Eigen::Isometry3d(double)>& tool_pose,
     const Joints& start_near, double t0_s, double dt_s, int n, std::string* why,
-    double max_step_rad = 0.5);
+    double max_step_rad = 0.5, bool partial = false);
 
 }  // namespace ephor::rambo

@@ -8,7 +8,8 @@
 
 namespace ephor::rambo {
 
-PolynomialPosePredictor::PolynomialPosePredictor(int degree) : degree_(degree) {
+PolynomialPosePredictor::PolynomialPosePredictor(int degree, RotationCoordinates rotation)
+    : degree_(degree), rotation_(rotation) {
   if (degree < 0 || degree > 5)
     throw std::invalid_argument("PolynomialPosePredictor: degree must be 0..5");
 }
@@ -30,11 +31,20 @@ bool PolynomialPosePredictor::fit(const std::vector<PoseSample>& samples, std::s
   Eigen::MatrixXd a(n, degree_ + 1);
   Eigen::MatrixXd y(n, 6);
   Eigen::Vector3d prev = Eigen::Vector3d::Zero();
+  r_mid_ = samples[static_cast<std::size_t>(n / 2)].pose.linear();
   for (int i = 0; i < n; ++i) {
     const auto& s = samples[static_cast<std::size_t>(i)];
     a.row(i) = basis(s.t_s).transpose();
-    Eigen::Vector3d ang = zyx_angles(s.pose.linear());
-    if (i > 0) {  // unwrap yaw and roll (pitch is in [-pi/2, pi/2])
+    Eigen::Vector3d ang;
+    if (rotation_ == RotationCoordinates::kRotationVector) {
+      const Eigen::AngleAxisd aa(r_mid_.transpose() * s.pose.linear());
+      ang = aa.angle() * aa.axis();
+    } else {
+      ang = zyx_angles(s.pose.linear());
+    }
+    if (i > 0 &&
+        rotation_ ==
+            RotationCoordinates::kZyxAngles) {  // unwrap yaw and roll (pitch is in [-pi/2, pi/2])
       for (int k : {0, 2})
         ang[k] = prev[k] + std::remainder(ang[k] - prev[k], 2.0 * std::numbers::pi);
     }
@@ -75,7 +85,13 @@ PosePrediction PolynomialPosePredictor::predict(double t_s) const {
     ypr[c] = coordinate(c + 3, t_s, &sr[c]);
   }
   p.pose = Eigen::Isometry3d::Identity();
-  p.pose.linear() = from_zyx_angles(ypr);
+  if (rotation_ == RotationCoordinates::kRotationVector) {
+    const double a = ypr.norm();
+    p.pose.linear() =
+        a < 1e-12 ? r_mid_ : (r_mid_ * Eigen::AngleAxisd(a, ypr / a).toRotationMatrix()).eval();
+  } else {
+    p.pose.linear() = from_zyx_angles(ypr);
+  }
   p.pose.translation() = xyz;
   p.position_sigma_mm = sp.norm();
   p.rotation_sigma_rad = sr.norm();

@@ -19,10 +19,18 @@
 
 namespace ephor::rambo {
 
+// The three rotation coordinates fitted.
+//   kZyxAngles       the paper's "three rotation angles" (yaw, pitch, roll).
+//   kRotationVector  log(R_mid^T R) about the middle sample's orientation
+//                    R_mid: no gimbal lock while the window turns < pi from
+//                    it (our addition, for a fairer comparison).
+enum class RotationCoordinates { kZyxAngles, kRotationVector };
+
 class PolynomialPosePredictor : public PosePredictor {
  public:
   // degree: 0..5 (the paper does not say; 2 = constant acceleration).
-  explicit PolynomialPosePredictor(int degree = 2);
+  explicit PolynomialPosePredictor(int degree = 2,
+                                   RotationCoordinates rotation = RotationCoordinates::kZyxAngles);
 
   const char* name() const override { return "polynomial"; }
   bool fit(const std::vector<PoseSample>& samples, std::string* why) override;
@@ -30,13 +38,15 @@ class PolynomialPosePredictor : public PosePredictor {
   PosePrediction predict(double t_s) const override;
 
   int degree() const { return degree_; }
-  // Coordinate c (0..5: x, y, z, yaw, pitch, roll) at t_s, and its sigma.
+  // Coordinate c (0..5: x, y, z, then the rotation coordinates) at t_s, and its sigma.
   double coordinate(int c, double t_s, double* sigma = nullptr) const;
 
  private:
   Eigen::VectorXd basis(double t_s) const;
 
   int degree_;
+  RotationCoordinates rotation_;
+  Eigen::Matrix3d r_mid_ = Eigen::Matrix3d::Identity();
   bool fitted_ = false;
   double t_ref_s_ = 0.0, t_scale_s_ = 1.0;  // basis in (t - t_ref) / t_scale for conditioning
   std::array<Eigen::VectorXd, 6> coeff_;

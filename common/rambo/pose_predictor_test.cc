@@ -41,6 +41,24 @@ TEST(PolynomialPosePredictor, RecoversNoiseFreePolynomialMotionExactly) {
       1e-6);
 }
 
+TEST(PolynomialPosePredictor, RotationVectorFitRecoversAConstantTwist) {
+  // A constant twist about a fixed axis through pitch = 90 deg (Euler
+  // angles' singularity): linear in rotation-vector coordinates.
+  const Eigen::Matrix3d r0 = from_zyx_angles(Eigen::Vector3d(0.2, 1.2, -0.3));
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1.0, 0.2).normalized();
+  auto pose = [&](double t) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = r0 * Eigen::AngleAxisd(0.8 * t, axis).toRotationMatrix();
+    p.translation() << 10 * t, 0, 500;
+    return p;
+  };
+  std::vector<PoseSample> s;
+  for (int k = 0; k <= 60; ++k) s.push_back({k / 30.0, pose(k / 30.0)});
+  PolynomialPosePredictor p(1, RotationCoordinates::kRotationVector);
+  ASSERT_TRUE(p.fit(s, nullptr));
+  EXPECT_LT(rotation_angle_between(p.predict(4.0).pose.linear(), pose(4.0).linear()), 1e-9);
+}
+
 TEST(PolynomialPosePredictor, UncertaintyGrowsWithHorizonUnderNoise) {
   std::mt19937 rng(5);
   std::normal_distribution<double> n(0.0, 1.0);

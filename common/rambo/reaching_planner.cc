@@ -98,7 +98,8 @@ LimitCheck ReachingPlanner::check(const ReachingTrajectory& r, const TargetSpher
 
 ReachingPlan ReachingPlanner::shortest(std::shared_ptr<const SampledJointTrajectory> current,
                                        std::shared_ptr<const SampledJointTrajectory> goal,
-                                       double t0_s, const TargetSphere* target) const {
+                                       double t0_s, const TargetSphere* target,
+                                       double hold_s) const {
   ReachingPlan plan;
   plan.t0_s = t0_s;
   if (!current || !goal || !current->covers(t0_s)) {
@@ -113,8 +114,8 @@ ReachingPlan ReachingPlanner::shortest(std::shared_ptr<const SampledJointTraject
   for (int c = 0; c < columns; ++c) {
     const double T = o.duration_min_s + c * o.duration_step_s;
     const double t1 = t0_s + T;
-    const bool covered = goal->covers(t1) && (o.method == ReachingMethod::kCubicSpline ||
-                                              (goal->covers(t0_s) && current->covers(t1)));
+    const bool covered = goal->covers(t1 + hold_s) && (o.method == ReachingMethod::kCubicSpline ||
+                                                       (goal->covers(t0_s) && current->covers(t1)));
     if (!covered) {
       plan.last_refusal = {Violation::kNotCovered, -1, t1, 0.0};
       break;  // longer T are not covered either
@@ -140,8 +141,8 @@ ReachingPlan ReachingPlanner::shortest(std::shared_ptr<const SampledJointTraject
 
 ReachingPlan ReachingPlanner::plan(std::shared_ptr<const SampledJointTrajectory> current,
                                    const std::function<Eigen::Isometry3d(double)>& goal_pose,
-                                   double t0_s, double horizon_s,
-                                   const TargetSphere* target) const {
+                                   double t0_s, double horizon_s, const TargetSphere* target,
+                                   double hold_s) const {
   ReachingPlan failed;
   failed.t0_s = t0_s;
   if (!current || !current->covers(t0_s) || !goal_pose || !(horizon_s > 0.0)) {
@@ -153,14 +154,16 @@ ReachingPlan ReachingPlanner::plan(std::shared_ptr<const SampledJointTrajectory>
   const int n = static_cast<int>(std::ceil(horizon_s / dt)) + 1;
   const Joints q_near = current->at(t0_s).q;
   std::string why;
-  auto goal_opt = joint_trajectory_from_poses(arm_, goal_pose, q_near, t0_s, dt, n, &why);
+  auto goal_opt =
+      joint_trajectory_from_poses(arm_, goal_pose, q_near, t0_s, dt, n, &why, 0.5, true);
   if (!goal_opt) {
     failed.status = ReachingStatus::kGoalUnreachable;
     failed.reason = "goal trajectory: " + why;
     return failed;
   }
   auto goal = std::make_shared<const SampledJointTrajectory>(std::move(*goal_opt));
-  ReachingPlan direct = shortest(current, goal, t0_s, target);
+  ReachingPlan direct = shortest(current, goal, t0_s, target, hold_s);
+  if (!direct.feasible() && !why.empty()) direct.reason += " (goal trajectory: " + why + ")";
   if (direct.feasible() || !target || !target->centre_mm) return direct;
 
   // Safe intermediate goals, fixed relative to the target's centre.
@@ -185,13 +188,14 @@ ReachingPlan ReachingPlanner::plan(std::shared_ptr<const SampledJointTrajectory>
         p.translation() = target->centre_mm(t) + offset;
         return p;
       };
-      auto via_opt = joint_trajectory_from_poses(arm_, via_pose, q_near, t0_s, dt, n, nullptr);
+      auto via_opt =
+          joint_trajectory_from_poses(arm_, via_pose, q_near, t0_s, dt, n, nullptr, 0.5, true);
       if (!via_opt) continue;
       auto via = std::make_shared<const SampledJointTrajectory>(std::move(*via_opt));
       ReachingPlan leg1 = shortest(current, via, t0_s, target);
       tried += leg1.durations_tried;
       if (!leg1.feasible()) continue;
-      ReachingPlan leg2 = shortest(via, goal, leg1.t_land_s, target);
+      ReachingPlan leg2 = shortest(via, goal, leg1.t_land_s, target, hold_s);
       tried += leg2.durations_tried;
       if (!leg2.feasible()) continue;
       if (best.feasible() && best.t_land_s <= leg2.t_land_s) continue;

@@ -82,9 +82,10 @@ class ReachingPlanner {
 
   // Section 9's scan in joint space: the smallest T whose reaching
   // trajectory from `current` onto `goal` at t0_s breaks no limit.
+  // hold_s: the goal trajectory must also cover the hold after landing.
   ReachingPlan shortest(std::shared_ptr<const SampledJointTrajectory> current,
                         std::shared_ptr<const SampledJointTrajectory> goal, double t0_s,
-                        const TargetSphere* target) const;
+                        const TargetSphere* target, double hold_s = 0.0) const;
 
   // The whole planner step: the goal pose trajectory (tool pose, base
   // frame, mm) to joint space, the direct scan, and if it fails for a

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -18,12 +19,8 @@ struct Hypothesis {
   Eigen::Matrix3d r;
   Eigen::Vector3d t;
   Eigen::Vector3d centre;  // target centre in the camera frame, mm
+  Eigen::Quaterniond q;    // r, for the cheap rotation gate
 };
-
-double rotation_distance(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
-  const double c = std::clamp(((a.transpose() * b).trace() - 1.0) / 2.0, -1.0, 1.0);
-  return std::acos(c);
-}
 
 Eigen::Matrix3d edge_frame(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2) {
   const Eigen::Vector3d x = e1.normalized();
@@ -195,7 +192,7 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
           if (!p.matrix().allFinite()) continue;
           const Eigen::Vector3d c = p * centre;
           if (c.z() <= 0.0) continue;
-          hyps.push_back({p.linear(), p.translation(), c});
+          hyps.push_back({p.linear(), p.translation(), c, Eigen::Quaterniond(p.linear())});
         }
       }
     }
@@ -209,7 +206,12 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
   // Cluster: grid cells of the cluster radius; each hypothesis counts its
   // neighbours within the radius and the rotation gate; the best one and
   // its neighbours are the cluster.
+  // Wrong matches of a box-like target put many centres near the true one,
+  // so the neighbour test runs O(H^2) times in the worst case: the rotation
+  // gate is |q1 . q2| >= cos(gate / 2) (no acos, no matrix product).
   const double cell = options_.cluster_radius_mm;
+  const double cell2 = cell * cell;
+  const double min_qdot = std::cos(options_.cluster_rotation_rad / 2.0);
   std::unordered_map<std::int64_t, std::vector<int>> grid;
   grid.reserve(hyps.size() * 2);
   for (int i = 0; i < static_cast<int>(hyps.size()); ++i)
@@ -224,18 +226,40 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
           if (it == grid.end()) continue;
           for (int j : it->second) {
             const Hypothesis& g = hyps[static_cast<std::size_t>(j)];
-            if ((g.centre - h.centre).norm() > cell) continue;
-            if (rotation_distance(g.r, h.r) > options_.cluster_rotation_rad) continue;
+            if ((g.centre - h.centre).squaredNorm() > cell2) continue;
+            if (std::abs(g.q.dot(h.q)) < min_qdot) continue;
             ++count;
             if (out) out->push_back(j);
           }
         }
     return count;
   };
-  int best = -1, best_count = 0;
+  // Candidates: wrong matches of a box-like target put many centres near
+  // the true one with other attitudes, so cells are voted in position and
+  // rotation (rotation vector quantised by the gate); only members of the
+  // fullest cells are scored exactly, O(H) overall instead of O(H^2).
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<int>> cells6;
   for (int i = 0; i < static_cast<int>(hyps.size()); ++i) {
-    const int c = neighbours(i, nullptr);
-    if (c > best_count) best_count = c, best = i;
+    Eigen::Quaterniond q = hyps[static_cast<std::size_t>(i)].q;
+    if (q.w() < 0) q.coeffs() *= -1.0;
+    const double vn = q.vec().norm();
+    const Eigen::Vector3d rv =
+        vn < 1e-12 ? Eigen::Vector3d::Zero() : (2.0 * std::atan2(vn, q.w()) / vn * q.vec()).eval();
+    cells6[{cell_key(hyps[static_cast<std::size_t>(i)].centre, cell),
+            cell_key(rv, options_.cluster_rotation_rad)}]
+        .push_back(i);
+  }
+  std::vector<const std::vector<int>*> fullest;
+  for (const auto& kv : cells6) fullest.push_back(&kv.second);
+  const std::size_t top = std::min<std::size_t>(fullest.size(), 8);
+  std::partial_sort(fullest.begin(), fullest.begin() + static_cast<long>(top), fullest.end(),
+                    [](const auto* a, const auto* b) { return a->size() > b->size(); });
+  int best = -1, best_count = 0;
+  for (std::size_t c = 0; c < top; ++c) {
+    for (int i : *fullest[c]) {
+      const int n = neighbours(i, nullptr);
+      if (n > best_count) best_count = n, best = i;
+    }
   }
   res.cluster_size = best_count;
   if (best_count < options_.min_cluster_size) {

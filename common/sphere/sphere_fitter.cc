@@ -35,7 +35,39 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
       const Eigen::Vector3d c = params.head<3>() + params.tail<3>() * dt;
       const Eigen::Vector3d d = q.p_m - c;
       const double dist = d.norm();
-      if (!config_.geometric_weighted) {
+      if (config_.residual == FitResidual::kRayRange) {
+        const double range = q.p_m.norm();
+        const Eigen::Vector3d u = q.p_m / range;
+        const double b = u.dot(c);
+        const double D = b * b - (c.squaredNorm() - R * R);
+        const double sa = range * config_.angle_sigma_rad;
+        if (D > 0.0) {
+          const double sqrt_d = std::sqrt(D);
+          const double r_hat = b - sqrt_d;
+          // tan^2 of the incidence angle: (R^2 - D) / D.
+          const double var = sr2 + sa * sa * (R * R - D) / D;
+          const double inv_sigma = 1.0 / std::sqrt(var);
+          r(i) = (range - r_hat) * inv_sigma;
+          if (J) {
+            // d r_hat / dc = u - (b u - c) / sqrt(D); residual derivative is its negative.
+            const Eigen::Vector3d g = -(u - (b * u - c) / sqrt_d) * inv_sigma;
+            J->row(i).head<3>() = g.transpose();
+            J->row(i).tail<3>() = dt * g.transpose();
+          }
+        } else {
+          const Eigen::Vector3d off = c - b * u;  // centre's offset from the ray
+          const double miss = off.norm();
+          r(i) = (miss - R) / sa;
+          if (J) {
+            const Eigen::Vector3d g =
+                (miss > 1e-12 ? Eigen::Vector3d(off / miss) : Eigen::Vector3d::Zero()) / sa;
+            J->row(i).head<3>() = g.transpose();
+            J->row(i).tail<3>() = dt * g.transpose();
+          }
+        }
+        continue;
+      }
+      if (config_.residual == FitResidual::kAlgebraic) {
         r(i) = d.squaredNorm() - R * R;  // eq. 6's term
         if (J) {
           J->row(i).head<3>() = -2.0 * d.transpose();
@@ -53,7 +85,12 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
       const double sa = range * config_.angle_sigma_rad;
       const double var_n = sr2 * cos_g * cos_g + sa * sa * sin2;
       const double var_perp = sr2 * sin2 + sa * sa * (1.0 + cos_g * cos_g);
-      const double inv_sigma = 1.0 / std::sqrt(var_n);
+      // Noise across the normal moves the point outward by n^2 / 2R: a
+      // skewed error of variance ~ var_perp^2 / 2R^2 (3.5 mm at the limb for
+      // sigma_r = 2 cm). Without it the limb points, precise along the
+      // normal to first order, dominate the fit with a skewed error (a
+      // 12 mm y bias at 1 m, where only the top half is scanned).
+      const double inv_sigma = 1.0 / std::sqrt(var_n + var_perp * var_perp / (2.0 * R * R));
       const double offset = config_.noise_offset_correction ? var_perp / (2.0 * R) : 0.0;
       r(i) = (dist - R - offset) * inv_sigma;
       if (J) {

@@ -12,11 +12,17 @@
 // (7.5 mm for sigma_r = 2 cm, R = 8 cm) - the paper's z bias - and toward
 // whichever side was scanned when less than a frame is (its y bias at 1 m).
 //
-// Improved mode (beyond the paper): the geometric residual |p - X(t)| - R,
-// each point weighted by the noise along its surface normal (range noise
-// along the ray, encoder noise across it: near the limb a point is 25 times
-// more precise at 1 m), minus the mean outward offset that noise across
-// the normal adds (sigma_perp^2 / 2R) - a maximum-likelihood fit.
+// Beyond the paper, two residuals were tried (bench: fit-geometric-weighted,
+// fit-improved). The geometric one, |p - X(t)| - R weighted by the noise
+// along the surface normal, is still biased where range noise (2 cm) is not
+// small against R (8 cm): a point pushed along a grazing ray lands outside
+// the sphere by n^2 / 2R whatever the sign of n. The improved fit is
+// maximum likelihood for the sensor's own noise instead: each point's
+// measured ray is cast to the model sphere and the residual is the range
+// difference r - r_hat over sigma_r^2 + (r sigma_a tan(incidence))^2 (range
+// noise is Gaussian along the ray, so this has no such bias); a ray that
+// misses the model sphere contributes its miss distance over r sigma_a.
+// Both terms vanish at the limb, so the cost is continuous.
 
 #include <vector>
 
@@ -31,21 +37,28 @@ struct TimedPoint {
   double t_s = 0.0;
 };
 
+// The residual each point contributes.
+enum class FitResidual {
+  kAlgebraic,          // eq. 6: |p - X(t)|^2 - R^2 (the paper)
+  kGeometricWeighted,  // (|p - X(t)| - R - offset) / sigma along the normal
+  kRayRange,           // (r - r_hat) / sigma: range along the measured ray to the model sphere
+};
+
 struct SphereFitterConfig {
   ForegroundGateConfig gate;
   double sphere_radius_m = kSphereRadiusM;
   int min_points = 12;
   int max_iterations = 50;
   double step_tolerance_m = 1e-7;
-  bool geometric_weighted = false;      // improved residual and weights (see above)
-  bool noise_offset_correction = true;  // with geometric_weighted: subtract sigma_perp^2 / 2R
+  FitResidual residual = FitResidual::kAlgebraic;
+  bool noise_offset_correction = true;  // kGeometricWeighted: subtract sigma_perp^2 / 2R
   double range_sigma_m = 0.02;
   double angle_sigma_rad = 0.78e-3;
 
   static SphereFitterConfig paper() { return {}; }
   static SphereFitterConfig improved() {
     SphereFitterConfig c;
-    c.geometric_weighted = true;
+    c.residual = FitResidual::kRayRange;
     return c;
   }
 };

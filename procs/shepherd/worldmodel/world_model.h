@@ -92,12 +92,14 @@ struct WorldModelConfig {
   // after 20 s under the arm (issue 13: with an 80 px cap and death after
   // 10 s such sheep came back with new ids).
   double obscured_gate_max_px = 120.0;
-  // Dead-reckoning extrapolates the last velocity this long at most, s. A
-  // sheep hidden longer is under the lowered tool, being turned, not walking
-  // on: reckoning it further walks its estimate through the tool and off the
-  // field. Short occlusions (the arm passing over a walking sheep) keep the
-  // whole extrapolation.
-  double dead_reckon_max_s = 3.0;
+  // Dead-reckoning extrapolates the last velocity this long at most, s. Long
+  // enough for a hidden sheep to walk onto the lowered tool (the planner
+  // counts the predicted body over the tool as the touch: 60-200 mm at 8 mm/s
+  // is 8-25 s, and 3 s left the tool waiting 30 s), short enough that one
+  // turned round under the tool is still within the obscured gate after 30 s
+  // hidden (2.9 px/s x (10 + 30) s = 116 px < 120 px) and is not reckoned
+  // off the field.
+  double dead_reckon_max_s = 10.0;
   // A blob this many times an object's usual area, on which two objects'
   // predictions fall, is their two marks merged.
   double merge_area_ratio = 1.4;

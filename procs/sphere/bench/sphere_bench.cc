@@ -103,9 +103,12 @@ std::vector<Method> methods() {
   sle("sle+edge+geometry+weights", s);
   sle("sle-improved", ScanLineExtentConfig::improved());
   fit("fit-paper", SphereFitterConfig::paper());
-  SphereFitterConfig f = SphereFitterConfig::improved();
+  SphereFitterConfig f = SphereFitterConfig::paper();
+  f.residual = FitResidual::kGeometricWeighted;
   f.noise_offset_correction = false;
   fit("fit-geometric-weighted", f);
+  f.noise_offset_correction = true;
+  fit("fit-geometric-weighted+offset", f);
   fit("fit-improved", SphereFitterConfig::improved());
   if (pcl_peer_available()) {
     m.push_back(
