@@ -76,7 +76,7 @@ nlohmann::json summarise(const Tally& t) {
     j[std::string(prefix) + "std"] = {sd.x(), sd.y(), sd.z()};
   };
   stats(t.pos_err, "position_m_");
-  stats(t.vel_err, "velocity_m_s_");
+  if (!t.vel_err.empty()) stats(t.vel_err, "velocity_m_s_");  // the static peer has none
   j["cpu_us_min"] = *std::min_element(t.cpu_us.begin(), t.cpu_us.end());
   j["cpu_us_max"] = *std::max_element(t.cpu_us.begin(), t.cpu_us.end());
   std::vector<double> c = t.cpu_us;
@@ -147,6 +147,11 @@ void print_table(const nlohmann::json& results, const std::vector<Method>& ms,
     for (double d : distances) {
       const auto& j = results[m.name][std::to_string(static_cast<int>(d))];
       if (!j.contains("cpu_us_min")) continue;
+      if (!j.contains("velocity_m_s_sigma")) {
+        std::printf(" | %.0f/%.0f/%.0f v -", j["cpu_us_min"].get<double>(),
+                    j["cpu_us_median"].get<double>(), j["cpu_us_max"].get<double>());
+        continue;
+      }
       std::printf(" | %.0f/%.0f/%.0f v %.0f %.0f %.0f", j["cpu_us_min"].get<double>(),
                   j["cpu_us_median"].get<double>(), j["cpu_us_max"].get<double>(),
                   1e3 * j["velocity_m_s_sigma"][0].get<double>(),
@@ -223,7 +228,7 @@ int main(int argc, char** argv) {
           continue;
         }
         t.pos_err.push_back(e.position_m - truth.centre_at(e.t_s));
-        t.vel_err.push_back(e.velocity_m_s - truth.velocity_m_s);
+        if (m.family != "peer") t.vel_err.push_back(e.velocity_m_s - truth.velocity_m_s);
         t.cpu_us.push_back(cpu);
       }
     }
