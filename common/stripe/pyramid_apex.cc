@@ -22,18 +22,24 @@ std::optional<PyramidApex> PyramidApex::locate(const std::vector<Eigen::Vector3d
       const int f = std::abs(dx) > std::abs(dy) ? (dx > 0 ? 0 : 1) : (dy > 0 ? 2 : 3);
       faces[f].push_back(p);
     }
-    Eigen::Matrix<double, 4, 3> a;
-    Eigen::Vector4d b;
+    // A face hidden from this view (too few points) is left out: three
+    // planes still meet in the apex.
+    Eigen::Matrix<double, 4, 3> a = Eigen::Matrix<double, 4, 3>::Zero();
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
     PyramidApex r{};
+    int used = 0;
     for (int f = 0; f < 4; ++f) {
-      if (faces[f].size() < options.min_face_points) return std::nullopt;
+      r.face_points[f] = faces[f].size();
+      r.face_rms_mm[f] = 0.0;
+      if (faces[f].size() < options.min_face_points) continue;
       const auto fit = PlaneFit::fit(faces[f]);
-      if (!fit) return std::nullopt;
+      if (!fit) continue;
       a.row(f) = fit->normal.transpose();
       b[f] = fit->normal.dot(fit->centroid);
       r.face_rms_mm[f] = fit->rms_mm;
-      r.face_points[f] = faces[f].size();
+      ++used;
     }
+    if (used < 3) return std::nullopt;
     // Normal equations (3 x 3); the planes must not be near-parallel.
     const Eigen::Matrix3d ata = a.transpose() * a;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(ata);

@@ -26,7 +26,9 @@ struct PyramidApex {
   double face_rms_mm[4];    // 1 sigma of each face's plane fit (+x, -x, +y, -y)
   size_t face_points[4];
 
-  // nullopt when a face has too few points or the planes do not meet in a point.
+  // Faces with fewer than min_face_points points are left out (face_rms 0);
+  // nullopt when fewer than three faces remain or the planes do not meet in
+  // a point.
   static std::optional<PyramidApex> locate(const std::vector<Eigen::Vector3d>& cloud,
                                            const Eigen::Vector3d& initial_apex_mm,
                                            const PyramidApexOptions& options = {});

@@ -188,18 +188,16 @@ nlohmann::json whole_scene(const std::string& scenes, std::uint64_t seed,
 // D: the pyramid's apex from 20 views (section 5) by robots whose arm and
 // cage differ from the nominal model (per robot seed), computed with the
 // nominal model and the drawing cage: the error before any calibration.
-nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed,
-                                   int robot_seeds) {
+nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed, int robot_seeds) {
   const StripeScene scene = StripeScene::load(scene_path(scenes, "pyramid"));
   const Eigen::Vector3d apex(0, 0, 60);
   const auto views = section5_views();
   nlohmann::json out = nlohmann::json::array();
-  std::printf("Direction-dependent error (section 5): pyramid apex from %zu views (approach "
-              "down / tilted 25 deg from +-x, +-y; stripes along x / y; 270 / 330 mm)
-",
-              views.size());
-  std::printf("  %-10s %-26s %8s %14s %14s
-", "robot", "model", "located", "worst_shift_mm",
+  std::printf(
+      "Direction-dependent error (section 5): pyramid apex from %zu views (approach "
+      "down / tilted 25 deg from +-x, +-y; stripes along x / y; 270 / 330 mm)\n",
+      views.size());
+  std::printf("  %-10s %-26s %8s %14s %14s\n", "robot", "model", "located", "worst_shift_mm",
               "worst_abs_mm");
   for (int rs = 0; rs <= robot_seeds; ++rs) {
     const RobotTruth truth = rs == 0 ? RobotTruth::ideal() : RobotTruth::draw(rs);
@@ -208,8 +206,7 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
                              SensorCalibration::drawing_cage());
     const DirectionError e = measure_direction_error(world, finder, views, apex, seed);
     const std::string robot = rs == 0 ? "ideal" : "seed " + std::to_string(rs);
-    std::printf("  %-10s %-26s %5d/%-2zu %14.3f %14.3f
-", robot.c_str(),
+    std::printf("  %-10s %-26s %5d/%-2zu %14.3f %14.3f\n", robot.c_str(),
                 "nominal arm, drawing cage", e.located, views.size(), e.worst_from_mean_mm,
                 e.worst_from_truth_mm);
     nlohmann::json j = {{"robot_seed", rs},
@@ -219,7 +216,8 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
                         {"unreachable_poses", e.unreachable_poses},
                         {"worst_shift_from_mean_mm", e.worst_from_mean_mm},
                         {"worst_from_true_apex_mm", e.worst_from_truth_mm}};
-    for (double z : truth.arm.errors().zero_offset_rad) j["true_zero_offset_deg"].push_back(z * 180 / kPi);
+    for (double z : truth.arm.errors().zero_offset_rad)
+      j["true_zero_offset_deg"].push_back(z * 180 / kPi);
     out.push_back(j);
   }
   std::printf("  paper: worst +-%.0f mm; target <= %.0f mm worst after calibration\n",
