@@ -181,12 +181,13 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
       const double z = std::sqrt(std::max(0.0, l * l - x * x));  // eq. 25
       double w = 1.0;
       if (cfg.weighted_regression) {
-        // var(d + z): range noise, x noise through dz/dx = -x/z, l noise
-        // through dz/dl = l/z (z floored: the chord's very ends).
-        const double inv_z = 1.0 / std::max(z, 0.05 * l);
-        const double xz = x * inv_z, lz = l * inv_z;
-        w = 1.0 / (sr2 + xz * xz * r[i] * r[i] * sa2 + lz * lz * sig_l2);
-        zsens += std::min(lz, 1.0 / 0.3);
+        // 1 / var(d + z): range noise, x noise through dz/dx = -x/z, l noise
+        // through dz/dl = l/z (z floored: the chord's very ends); written
+        // with one division.
+        const double zf = std::max(z, 0.05 * l);
+        const double zf2 = zf * zf;
+        w = zf2 / (sr2 * zf2 + x * x * r[i] * r[i] * sa2 + l * l * sig_l2);
+        zsens += std::min(l / zf, 1.0 / 0.3);
       }
       sum += w * (dd[i] + z);
       wsum += w;
@@ -216,11 +217,13 @@ std::optional<LineExtent> extent_of(const ScanLineExtentConfig& cfg, const ScanL
 
 // Completes a line's estimate once its sign is chosen: eq. 27-37.
 void finish(const ScanLineExtentConfig& cfg, LineExtent& e) {
-  const double e_off = e.sign * small_atan(e.y_abs_m / e.s_m);   // eq. 29
-  e.range_m = cfg.exact_geometry ? std::hypot(e.s_m, e.y_abs_m)  // the centre off the line's plane
-                                 : e.s_m * small_cos(e_off);     // eq. 27 as printed
-  const double a_dot = e.mid_azimuth_rad;                        // eq. 18, 30
-  const double e_dot = e_off + e.phi_rad;                        // eq. 31
+  const double e_off = e.sign * small_atan(e.y_abs_m / e.s_m);  // eq. 29
+  e.range_m =
+      cfg.exact_geometry
+          ? std::sqrt(e.s_m * e.s_m + e.y_abs_m * e.y_abs_m)  // the centre off the line's plane
+          : e.s_m * small_cos(e_off);                         // eq. 27 as printed
+  const double a_dot = e.mid_azimuth_rad;                     // eq. 18, 30
+  const double e_dot = e_off + e.phi_rad;                     // eq. 31
   const double ct = small_cos(e.theta_rad), st = small_sin(e.theta_rad);
   e.azimuth_rad = a_dot * ct - e_dot * st;  // eq. 32-33 (inverse of our eq. 12-13)
   e.elevation_rad = a_dot * st + e_dot * ct;
