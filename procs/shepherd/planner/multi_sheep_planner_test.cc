@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -196,6 +197,26 @@ Scene advance(const std::vector<Sheep>& all, double dt, double arm_x, double arm
   return sc;
 }
 
+// Takes `planner` through its first move for `target` and the lowering that
+// follows (the arm arriving `early_mm` farther along -x than planned, at
+// t = 2 s); both motions done. Returns the lowering goal, nullopt (with a
+// test failure) if either did not come.
+std::optional<Goal> move_and_lower(MultiSheepPlanner& planner, const Sheep& target,
+                                   double early_mm = 0.0) {
+  const auto move = planner.plan(make_scene({target}));
+  if (!move || !planner.on_motion_done(move->goal_id, true)) {
+    ADD_FAILURE() << "no first move";
+    return std::nullopt;
+  }
+  const auto lower =
+      planner.plan(advance({target}, 2.0, move->x_mm - early_mm, move->y_mm, false, 2.0));
+  if (!lower || lower->plane != Plane::kObject || !planner.on_motion_done(lower->goal_id, true)) {
+    ADD_FAILURE() << "no lowering after the move";
+    return std::nullopt;
+  }
+  return lower;
+}
+
 TEST(MultiSheepPlannerTest, FullCycleMoveVerifyLowerTurnRaiseThenPark) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const Scene s0 = make_scene({kA});
@@ -245,15 +266,10 @@ TEST(MultiSheepPlannerTest, FullCycleMoveVerifyLowerTurnRaiseThenPark) {
 TEST(MultiSheepPlannerTest, GivesUpAWaitThatWouldLoseAnotherSheep) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const Sheep slow = sheep(1, 250, 700, -8, 0);  // leaves over the left edge in 31 s
-  const auto move = planner.plan(make_scene({slow}));
-  ASSERT_TRUE(move.has_value());
-  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
   // The arm is early, 150 mm farther along the sheep's path: it lowers
   // there and the sheep walks under it, 20-odd seconds at 8 mm/s.
-  const auto lower = planner.plan(advance({slow}, 2.0, move->x_mm - 150.0, move->y_mm, false, 2.0));
+  const auto lower = move_and_lower(planner, slow, 150.0);
   ASSERT_TRUE(lower.has_value());
-  ASSERT_EQ(lower->plane, Plane::kObject);
-  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
   // Down, the sheep still well short of the tool: a long wait, nobody else.
   EXPECT_FALSE(planner.plan(advance({slow}, 3.0, lower->x_mm, lower->y_mm, true, 3.0)));
   ASSERT_EQ(planner.status().phase, "turning");
@@ -273,12 +289,8 @@ TEST(MultiSheepPlannerTest, GivesUpAWaitThatWouldLoseAnotherSheep) {
 TEST(MultiSheepPlannerTest, KeepsWaitingWhenTheOtherSheepCanWait) {
   MultiSheepPlanner planner{PlannerConfig{}};
   const Sheep slow = sheep(1, 250, 700, -8, 0);
-  const auto move = planner.plan(make_scene({slow}));
-  ASSERT_TRUE(move.has_value());
-  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
-  const auto lower = planner.plan(advance({slow}, 2.0, move->x_mm - 150.0, move->y_mm, false, 2.0));
+  const auto lower = move_and_lower(planner, slow, 150.0);
   ASSERT_TRUE(lower.has_value());
-  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
   EXPECT_FALSE(planner.plan(advance({slow}, 3.0, lower->x_mm, lower->y_mm, true, 3.0)));
   Scene two = advance({slow}, 4.0, lower->x_mm, lower->y_mm, true, 4.0);
   // 40 s from the right edge: more than the longest wait (30 s) plus the
@@ -398,11 +410,8 @@ TEST(MultiSheepPlannerTest, HiddenSheepUnderTheLoweredToolCountsAsTurned) {
 TEST(MultiSheepPlannerTest, SheepSavedWhileHiddenIsNoCandidateUntilSeenAgain) {
   const PlannerConfig config;
   MultiSheepPlanner planner{config};
-  const auto move = planner.plan(make_scene({kA}));
-  ASSERT_TRUE(planner.on_motion_done(move->goal_id, true));
-  const auto lower = planner.plan(advance({kA}, 2.0, move->x_mm, move->y_mm, false, 2.0));
-  ASSERT_TRUE(lower.has_value() && lower->plane == Plane::kObject);
-  ASSERT_TRUE(planner.on_motion_done(lower->goal_id, true));
+  const auto lower = move_and_lower(planner, kA);
+  ASSERT_TRUE(lower.has_value());
   Sheep hidden = kA;  // over the tool, obscured, still "walking out"
   hidden.x_mm = lower->x_mm;
   hidden.y_mm = lower->y_mm;
