@@ -51,6 +51,19 @@ RunMonitor::RunMonitor(std::string scenario, double match_radius_mm)
 
 void RunMonitor::on_truth(const Truth& truth) {
   if (start_us_ == 0) start_us_ = truth.utime;
+  // An escape: which sheep left, and where it was last seen on the field (a
+  // log reader's first question about a run).
+  if (!truths_.empty() && truth.escapes > last_truth_.escapes) {
+    for (const auto& before : last_truth_.sheep) {
+      if (!before.on_field) continue;
+      bool still_on = false;
+      for (const auto& now : truth.sheep) still_on |= now.id == before.id && now.on_field;
+      if (!still_on)
+        events_.push_back(
+            fmt::format("escape: sheep {} left the field at ({:.0f}, {:.0f}) mm ({:.1f} s)",
+                        before.id, before.x_mm, before.y_mm, truth.sim_time_s));
+    }
+  }
   last_truth_ = truth;
   truths_.push_back(truth);
   while (truths_.size() > 120) truths_.pop_front();

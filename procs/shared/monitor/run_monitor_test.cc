@@ -42,6 +42,22 @@ TEST(RunMonitor, CountsAnIdSwitchWhenTheMatchedObjectChanges) {
   EXPECT_TRUE(m.take_events().empty());
 }
 
+TEST(RunMonitor, SaysWhichSheepEscapedAndWhere) {
+  RunMonitor m("test");
+  m.on_truth(truth_at(1000, 5, 300));
+  EXPECT_TRUE(m.take_events().empty());
+  Truth gone = truth_at(2000, -3, 300);
+  gone.sheep[0].on_field = false;
+  gone.escapes = 1;
+  m.on_truth(gone);
+  const auto events = m.take_events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].find("escape: sheep 1 left the field at (5, 300) mm"), std::string::npos)
+      << events[0];
+  m.on_truth(gone);  // still out: said once
+  EXPECT_TRUE(m.take_events().empty());
+}
+
 TEST(RunMonitor, ASheepThatEscapedAndReenteredIsANewSheep) {
   RunMonitor m("test");
   m.on_truth(truth_at(1000, 100, 100));
