@@ -105,6 +105,7 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
   residuals(x, r, &J);
   double cost = r.squaredNorm();
   double mu = 1e-3;
+  double last_step_m = INFINITY;
   for (int it = 0; it < config_.max_iterations; ++it) {
     out.iterations = it + 1;
     const Eigen::Matrix<double, 6, 6> H = J.transpose() * J;
@@ -121,6 +122,7 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
       residuals(x, r, &J);
       cost = r.squaredNorm();
       mu = std::max(mu * 0.2, 1e-9);
+      last_step_m = step.head<3>().norm() + 0.25 * step.tail<3>().norm();
       // Position change in metres; velocity change over a 0.5 s window.
       if (step.head<3>().norm() + 0.25 * step.tail<3>().norm() < config_.step_tolerance_m) {
         out.converged = true;
@@ -134,6 +136,10 @@ SphereFit SphereFitter::fit(const std::vector<TimedPoint>& points) const {
       }
     }
   }
+  // Levenberg-Marquardt can crawl along a shallow valley (the velocity is
+  // weakly observed with few lines): a last accepted step under 10 um is a
+  // minimum for our purposes even when the iteration budget ran out.
+  if (!out.converged && last_step_m < 1e-5) out.converged = true;
   out.centre_m = x.head<3>();
   out.velocity_m_s = x.tail<3>();
   if (!x.allFinite()) out.converged = false;

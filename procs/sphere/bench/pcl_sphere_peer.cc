@@ -52,7 +52,7 @@ Estimate pcl_sphere_locate(const Window& window) {
   seg.setModelType(pcl::SACMODEL_SPHERE);
   seg.setMethodType(pcl::SAC_RANSAC);
   seg.setDistanceThreshold(0.04);  // 2 sigma of the range noise
-  seg.setRadiusLimits(0.07, 0.09);
+  seg.setRadiusLimits(0.06, 0.10);
   seg.setMaxIterations(200);
   seg.setInputCloud(cloud);
   pcl::PointIndices inliers;
