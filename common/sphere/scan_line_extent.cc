@@ -247,17 +247,23 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pas
   if (cfg.profile_sign && pass.size() >= 5) {
     // l^2 = u^2 - (s (phi - E_c))^2 is a parabola in phi peaking at the
     // centre's elevation E_c: fit it over the pass.
-    Eigen::MatrixXd A(pass.size(), 3);
-    Eigen::VectorXd b(pass.size());
+    // Normal equations in dp scaled to about one (3 x 3, no allocation; the
+    // scaling keeps them well conditioned).
     const double p0 = longest->phi_rad;
-    for (size_t j = 0; j < pass.size(); ++j) {
-      const double dp = pass[j]->phi_rad - p0;
-      A(static_cast<Eigen::Index>(j), 0) = 1.0;
-      A(static_cast<Eigen::Index>(j), 1) = dp;
-      A(static_cast<Eigen::Index>(j), 2) = dp * dp;
-      b(static_cast<Eigen::Index>(j)) = pass[j]->l_m * pass[j]->l_m;
+    double scale = 0.0;
+    for (const LineExtent* e : pass) scale = std::max(scale, std::abs(e->phi_rad - p0));
+    scale = scale > 0.0 ? scale : 1.0;
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    for (const LineExtent* e : pass) {
+      const double q = (e->phi_rad - p0) / scale;
+      const Eigen::Vector3d row(1.0, q, q * q);
+      ata += row * row.transpose();
+      atb += row * (e->l_m * e->l_m);
     }
-    const Eigen::Vector3d c = A.colPivHouseholderQr().solve(b);
+    Eigen::Vector3d c = ata.ldlt().solve(atb);
+    c(1) /= scale;
+    c(2) /= scale * scale;
     if (c(2) < 0.0) {
       const double peak = p0 - c(1) / (2.0 * c(2));
       double lo = pass.front()->phi_rad, hi = lo;
@@ -298,6 +304,7 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pas
 
 std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::string* why) const {
   std::vector<LineExtent> out;
+  out.reserve(window.lines.size());
   ForegroundGate gate(config_.gate);
   if (gate.learn(window) == 0) {
     if (why) *why = "no returns closer than the background threshold";
@@ -308,6 +315,7 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
   std::vector<std::vector<LineExtent*>> passes;
   // Lines with returns in a row form a pass; a line without returns ends it.
   std::vector<int> pass_of;
+  pass_of.reserve(window.lines.size());
   int current = -1;
   bool in_pass = false;
   for (size_t j = 0; j < window.lines.size(); ++j) {
