@@ -5,9 +5,10 @@ Runs the whole shepherding system headless (real processes, real time: the
 launcher, both schedulers, sim, vision, world model, planner, comm, arm and
 monitor) once per cell of sheep counts x planners x seeds, each for --minutes,
 and writes escapes, saves, id switches and frame-to-arm-command latency per
-cell. With --parallel N, N runs go at once, each in its own private network
-namespace (tools/netns-run) so they cannot hear each other; one run uses about
-a fifth of a core here, but latency figures are cleanest with --parallel 1.
+cell. Each run has its own private network namespace (tools/netns-run, needs
+root; --no-netns otherwise), so runs going at once (--parallel N, or another
+bench herd) cannot hear each other. One run uses about a fifth of a core
+here, but latency figures are cleanest with --parallel 1 on a quiet machine.
 
   tools/ephor bench herd --json herd.json                      # 2,4,6,8 sheep x multi,lookahead x 10 min
   tools/ephor bench herd --sheep 4 --seeds 1,2,3 --sheep-speed 20 --json f.json
@@ -55,7 +56,7 @@ def run_cell(cell, args):
                "--summary", summary]
         for a in args.sim_arg:
             cmd += ["--arg", f"sim={a}"]
-        if args.parallel > 1:
+        if not args.no_netns:
             cmd = [os.path.join(ROOT, "tools", "netns-run")] + cmd
         t0 = time.monotonic()
         log = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -88,7 +89,10 @@ def main():
     ap.add_argument("--minutes", type=float, default=10.0, help="minutes per run (default 10)")
     ap.add_argument("--sheep-speed", type=float, default=8.0, help="nominal sheep speed, mm/s (default 8)")
     ap.add_argument("--sim-arg", action="append", default=[], help="extra ephor-sim argument (repeatable)")
-    ap.add_argument("--parallel", type=int, default=1, help="runs at once, each in its own network namespace")
+    ap.add_argument("--parallel", type=int, default=1, help="runs at once")
+    ap.add_argument("--no-netns", action="store_true",
+                    help="run on the host's network instead of a private namespace per run (needs no "
+                         "root, but then no other LCM run may be going on at the same time)")
     ap.add_argument("--json", help="write the cells here")
     args = ap.parse_args()
     planners = [p for p in args.planners.split(",") if p]
