@@ -11,9 +11,13 @@ constexpr double kPi = std::numbers::pi;
 }
 
 std::optional<arm::Joints> StripeWorkcell::joints_for(const Eigen::Isometry3d& flange_in_table,
-                                                      const arm::Joints& near) const {
+                                                      const arm::Joints& near,
+                                                      const arm::Joints& zero_offset_rad) const {
   static const arm::Puma560 puma(0.0);
-  return puma.nearest_inverse(base_in_table.inverse() * flange_in_table, near);
+  const auto physical =
+      puma.nearest_inverse(base_in_table.inverse() * flange_in_table, near + zero_offset_rad);
+  if (!physical) return std::nullopt;
+  return arm::Joints(*physical - zero_offset_rad);
 }
 
 arm::Joints StripeWorkcell::reference_joints() {

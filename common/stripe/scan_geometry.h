@@ -26,8 +26,11 @@ struct StripeWorkcell {
 
   // Joint readings (nominal IK, the controller's own model) putting the
   // flange at `flange_in_table`, nearest `near` (rad); nullopt out of reach.
-  std::optional<arm::Joints> joints_for(const Eigen::Isometry3d& flange_in_table,
-                                        const arm::Joints& near) const;
+  // zero_offset_rad: the model's zero references (physical = reading +
+  // offset), subtracted from the nominal IK's physical angles.
+  std::optional<arm::Joints> joints_for(
+      const Eigen::Isometry3d& flange_in_table, const arm::Joints& near,
+      const arm::Joints& zero_offset_rad = arm::Joints::Zero()) const;
   // A configuration to start from: shoulder right, elbow up, wrist not
   // flipped, the flange pointing down over the square.
   static arm::Joints reference_joints();

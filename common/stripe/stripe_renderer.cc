@@ -109,4 +109,38 @@ cv::Mat StripeRenderer::render(const Eigen::Isometry3d& c, const Eigen::Isometry
   return out;
 }
 
+cv::Mat StripeRenderer::render_ambient(const Eigen::Isometry3d& c, std::uint64_t seed) const {
+  const int w = camera_.width_px, h = camera_.height_px;
+  cv::Mat_<float> img(h, w);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<float> noise(0.0f, static_cast<float>(options_.noise_sigma_grey));
+  // 3 x 3 samples a pixel so the spot's edge is anti-aliased (sub-pixel centroids).
+  constexpr int kSub = 3;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      double sum = 0.0;
+      for (int sv = 0; sv < kSub; ++sv) {
+        for (int su = 0; su < kSub; ++su) {
+          const double uu = u + (su + 0.5) / kSub - 0.5, vv = v + (sv + 0.5) / kSub - 0.5;
+          const Eigen::Vector3d d = c.linear() * camera_.ray(uu, vv);
+          const auto hit = scene_->first_hit(c.translation(), d, 1e-6, 1e5);
+          if (!hit) continue;
+          if (hit->face >= 0) {
+            sum += options_.object_grey * std::abs(hit->normal.z());
+          } else {
+            const bool in_spot =
+                (hit->point.head<2>() - options_.spot_centre_mm).norm() <= options_.spot_radius_mm;
+            sum += in_spot ? options_.spot_grey : options_.table_grey;
+          }
+        }
+      }
+      img(v, u) = static_cast<float>(sum / (kSub * kSub)) +
+                  (options_.noise_sigma_grey > 0.0 ? noise(rng) : 0.0f);
+    }
+  }
+  cv::Mat out;
+  img.convertTo(out, CV_8UC1);
+  return out;
+}
+
 }  // namespace ephor::stripe

@@ -28,6 +28,15 @@ struct StripeRendererOptions {
   double peak_grey = 200.0;       // sheet centre on a surface square to it at the reference range
   double background_grey = 8.0;   // the dark scene through the infrared filter
   double noise_sigma_grey = 2.0;  // per pixel, Gaussian, seeded per image
+
+  // With the infrared filter removed and the laser off (section 4's camera
+  // calibration): the table's contrasting spot, a dark disc on the light
+  // table top, table frame mm.
+  Eigen::Vector2d spot_centre_mm = Eigen::Vector2d::Zero();
+  double spot_radius_mm = 8.0;
+  double table_grey = 170.0;
+  double spot_grey = 30.0;
+  double object_grey = 120.0;  // objects, times the cosine of their slope
 };
 
 class StripeRenderer {
@@ -40,6 +49,10 @@ class StripeRenderer {
   // camera.height_px x camera.width_px. Same seed, same image.
   cv::Mat render(const Eigen::Isometry3d& camera_pose, const Eigen::Isometry3d& projector_pose,
                  std::uint64_t seed) const;
+
+  // The view with the filter removed and the laser off: table, spot and
+  // objects under diffuse light (no stripe), seeded noise.
+  cv::Mat render_ambient(const Eigen::Isometry3d& camera_pose, std::uint64_t seed) const;
 
   // Fraction of the sheet's peak irradiance reaching point p (table frame) on
   // a surface with unit normal `normal`, ignoring the sheet's thickness

@@ -26,7 +26,8 @@ ScanResult run_scan(const StripeWorld& world, const RangeFinder& finder,
   arm::Joints q = start;
   for (size_t i = 0; i < projector_poses.size(); ++i) {
     const Eigen::Isometry3d flange = flange_for_projector(projector_poses[i], finder.calibration());
-    const auto next = world.cell().joints_for(flange, q);
+    const auto next =
+        world.cell().joints_for(flange, q, finder.arm_model().errors().zero_offset_rad);
     if (!next) {
       ++r.unreachable;
       continue;

@@ -50,4 +50,8 @@ cv::Mat StripeWorld::image(const arm::Joints& q, std::uint64_t seed) const {
                           seed);
 }
 
+cv::Mat StripeWorld::spot_image(const arm::Joints& q, std::uint64_t seed) const {
+  return renderer_.render_ambient(flange_in_table(q) * truth_.cage.camera_in_flange, seed);
+}
+
 }  // namespace ephor::stripe

@@ -38,6 +38,9 @@ class StripeWorld {
   // The camera's image at joint readings q (seeded noise).
   cv::Mat image(const arm::Joints& q, std::uint64_t seed) const;
 
+  // The image with the infrared filter removed and the laser off.
+  cv::Mat spot_image(const arm::Joints& q, std::uint64_t seed) const;
+
   const StripeScene& scene() const { return *scene_; }
   const StripeWorkcell& cell() const { return cell_; }
   const RobotTruth& truth() const { return truth_; }
