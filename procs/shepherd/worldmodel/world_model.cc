@@ -24,7 +24,7 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !finite_positive(c.obscured_gate_px) || !finite_nonneg(c.obscured_gate_growth_px_s) ||
       !(c.obscured_gate_max_px >= c.obscured_gate_px) || !(c.merge_area_ratio > 1.0) ||
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
-      !finite_nonneg(c.dead_reckon_max_s) ||
+      !finite_nonneg(c.dead_reckon_max_s) || !finite_nonneg(c.hidden_escape_margin_mm) ||
       !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
       !(c.reacquire_area_ratio >= c.partial_area_ratio && c.reacquire_area_ratio < 1.0) ||
       !std::isfinite(c.mark_height_mm) || !finite_nonneg(c.mark_diameter_mm))
@@ -41,9 +41,11 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
         std::numbers::pi * 0.25 * c.mark_diameter_mm * c.mark_diameter_mm / mm2_per_px2;
 }
 
-bool WorldModel::inside_field(const Eigen::Vector2d& px) const {
+bool WorldModel::inside_field(const Eigen::Vector2d& px, double margin_mm) const {
   const Eigen::Vector2d mm = mark_map_ * px.homogeneous();
-  return config_.workcell.inside_field(mm.x(), mm.y());
+  const auto& w = config_.workcell;
+  return mm.x() >= -margin_mm && mm.x() <= w.field_length_mm + margin_mm && mm.y() >= -margin_mm &&
+         mm.y() <= w.field_width_mm + margin_mm;
 }
 
 Eigen::Vector2d WorldModel::dead_reckoned(const Track& t) const {
@@ -250,7 +252,7 @@ void WorldModel::stage3_dead_reckon() {
   for (auto& [id, t] : tracks_) {
     if (t.state != ObjectState::kObscured) continue;
     t.estimate_px = dead_reckoned(t);
-    if (!inside_field(t.estimate_px)) {
+    if (!inside_field(t.estimate_px, config_.hidden_escape_margin_mm)) {
       kill(t, "reckoned outside the field");
     } else if (now_s_ - t.seen_s > config_.max_obscured_s) {
       kill(t, "hidden too long");

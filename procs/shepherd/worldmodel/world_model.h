@@ -100,6 +100,11 @@ struct WorldModelConfig {
   // hidden (2.9 px/s x (10 + 30) s = 116 px < 120 px) and is not reckoned
   // off the field.
   double dead_reckon_max_s = 10.0;
+  // A hidden object is reckoned to have left the field only this far beyond
+  // its edge, mm: a sheep hidden (by a cloud, the arm) as it nears the edge
+  // is often turned there, and reappears inside; killing it at the edge gave
+  // it a new id (issue 13, clouds). A visible one leaves at the edge.
+  double hidden_escape_margin_mm = 60.0;
   // A blob this many times an object's usual area, on which two objects'
   // predictions fall, is their two marks merged.
   double merge_area_ratio = 1.4;
@@ -187,7 +192,8 @@ class WorldModel {
   bool partly_hidden(const Track& t, int area, double ratio) const;
   void hide(Track& t);
   void kill(Track& t, const char* why);
-  bool inside_field(const Eigen::Vector2d& px) const;
+  // margin_mm > 0 counts points up to that far outside the field as inside.
+  bool inside_field(const Eigen::Vector2d& px, double margin_mm = 0.0) const;
   Eigen::Vector2d dead_reckoned(const Track& t) const;
 
   double whole_mark_area_px_ = 0.0;  // image area of a whole mark; 0 = unknown

@@ -294,6 +294,46 @@ TEST(WorldModelTest, SheepLeavingTheFieldIsMarkedDeadAndBlobsOutsideMakeNoObject
   EXPECT_TRUE(wm.objects().empty()) << "dead objects are forgotten after report_dead_s";
 }
 
+// Issue 13, clouds: a slow sheep hidden as it nears the edge is reckoned a
+// little past it, but it was turned there and comes back: same id. One
+// reckoned well past the edge has left (and the log says why it died).
+TEST(WorldModelTest, HiddenSheepReckonedJustPastTheEdgeIsNotGivenUp) {
+  constexpr double kSlow = 2.9;  // px/s: 8 mm/s
+  {
+    auto wm = make_model();
+    std::mt19937 rng(9);
+    // The field's left edge is at u ~ 32 px; hidden at u ~ 40, reckoned 10 s
+    // on to u ~ 11, 21 px (57 mm) past the edge.
+    const Sheep out{{55, 200}, {-kSlow, 0}};
+    feed(wm, {out}, 0, 150, rng);
+    feed(
+        wm, {out}, 150, 150 + 12 * 30, [](size_t, int) { return true; }, rng);
+    ASSERT_TRUE(by_id(wm, 1));
+    EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kObscured);
+    const int back_at = 150 + 12 * 30;
+    // Turned where it was hidden: comes out there at back_at, walking in.
+    const Sheep back{out.at(150) - Eigen::Vector2d(kSlow, 0) * (back_at * kFrameUs * 1e-6),
+                     {kSlow, 0}};
+    feed(wm, {back}, back_at, back_at + 30, rng);
+    EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kVisible);
+    EXPECT_EQ(wm.counters().objects_created, 1);
+  }
+  {
+    auto wm = make_model();
+    std::mt19937 rng(10);
+    const Sheep out{{45, 200}, {-kSpeed, 0}};  // 30 mm/s: reckoned far out soon
+    feed(wm, {out}, 0, 30, rng);
+    feed(
+        wm, {out}, 30, 150, [](size_t, int) { return true; }, rng);
+    ASSERT_TRUE(by_id(wm, 1));
+    EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kDead);
+    const auto deaths = wm.take_deaths();
+    ASSERT_EQ(deaths.size(), 1u);
+    EXPECT_NE(deaths[0].find("object 1 dead: reckoned outside the field"), std::string::npos)
+        << deaths[0];
+  }
+}
+
 TEST(WorldModelTest, TwoSheepCrossingPathsKeepTheirIds) {
   // Perpendicular paths through (250, 200), 20 frames apart, and a head-on
   // pass 18 px apart (marks do not merge).
