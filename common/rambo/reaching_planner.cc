@@ -117,8 +117,10 @@ ReachingPlan ReachingPlanner::shortest(std::shared_ptr<const SampledJointTraject
     const bool covered = goal->covers(t1 + hold_s) && (o.method == ReachingMethod::kCubicSpline ||
                                                        (goal->covers(t0_s) && current->covers(t1)));
     if (!covered) {
-      plan.last_refusal = {Violation::kNotCovered, -1, t1, 0.0};
-      break;  // longer T are not covered either
+      // Longer T are not covered either; keep the last limit that refused
+      // a covered T (more telling than the end of the prediction).
+      if (plan.durations_tried == 0) plan.last_refusal = {Violation::kNotCovered, -1, t1, 0.0};
+      break;
     }
     ReachingTrajectory r(o.method, current, goal, t0_s, T);
     ++plan.durations_tried;

@@ -94,10 +94,12 @@ class ReachingPlanner {
   // the bisector of the directions from the centre to the tool and to the
   // goal, then up, then away from the base axis; at 1.5 and 2.5 times the
   // sphere's radius), with the goal's orientation. The tool reaches it,
-  // then the goal from it.
+  // then the goal from it. The goal is followed in joint space up to
+  // horizon_s or until it leaves the arm's reach (a tumbling target turns
+  // goals away); landing + hold_s must fall before that.
   ReachingPlan plan(std::shared_ptr<const SampledJointTrajectory> current,
                     const std::function<Eigen::Isometry3d(double)>& goal_pose, double t0_s,
-                    double horizon_s, const TargetSphere* target) const;
+                    double horizon_s, const TargetSphere* target, double hold_s = 0.0) const;
 
   // The paper's serial-machine heuristic (section 9): the time of a straight
   // line at a safe fraction of the tool's top speed (mm, mm/s).

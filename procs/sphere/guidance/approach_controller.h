@@ -14,7 +14,8 @@
 //   -gain * offset (at most max_lateral); the closing speed is held back
 //   while the offset is outside a cone that narrows to the capture limit;
 // - the chaser's velocity change per window is at most max_accel * window,
-//   the chaser's own limit, so the chaser can fly what is commanded.
+//   the chaser's own limit, so the chaser can fly what is commanded; the
+//   lateral correction gets that budget first, the closing speed the rest.
 //
 // The wanted relative velocity v_w becomes a chaser velocity through the
 // relative velocity predicted when the command takes effect: the relative
