@@ -254,41 +254,33 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
   const std::size_t top = std::min<std::size_t>(fullest.size(), 8);
   std::partial_sort(fullest.begin(), fullest.begin() + static_cast<long>(top), fullest.end(),
                     [](const auto* a, const auto* b) { return a->size() > b->size(); });
-  int best = -1, best_count = 0;
-  for (std::size_t c = 0; c < top; ++c) {
-    for (int i : *fullest[c]) {
-      const int n = neighbours(i, nullptr);
-      if (n > best_count) best_count = n, best = i;
+  // Candidate clusters: the hypotheses with most neighbours, at most three
+  // that are not neighbours of each other. With refinement, the one that
+  // explains most image points (then the lowest reprojection error) wins:
+  // a near-symmetric target can give a wrong cluster as many votes.
+  std::vector<std::pair<int, int>> scored;  // (neighbours, hypothesis)
+  for (std::size_t c = 0; c < top; ++c)
+    for (int i : *fullest[c]) scored.emplace_back(neighbours(i, nullptr), i);
+  std::sort(scored.begin(), scored.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<std::pair<int, int>> seeds;
+  for (const auto& sc : scored) {
+    if (seeds.size() >= 3 || sc.first < options_.min_cluster_size) break;
+    const Hypothesis& h = hyps[static_cast<std::size_t>(sc.second)];
+    bool distinct = true;
+    for (const auto& sd : seeds) {
+      const Hypothesis& g = hyps[static_cast<std::size_t>(sd.second)];
+      if ((g.centre - h.centre).squaredNorm() <= cell2 && std::abs(g.q.dot(h.q)) >= min_qdot)
+        distinct = false;
     }
+    if (distinct) seeds.push_back(sc);
   }
-  res.cluster_size = best_count;
-  if (best_count < options_.min_cluster_size) {
-    res.reason = "no consistent pose: largest cluster has " + std::to_string(best_count) + " of " +
-                 std::to_string(hyps.size()) + " hypotheses";
+  res.cluster_size = scored.empty() ? 0 : scored.front().first;
+  if (seeds.empty()) {
+    res.reason = "no consistent pose: largest cluster has " + std::to_string(res.cluster_size) +
+                 " of " + std::to_string(hyps.size()) + " hypotheses";
     return res;
   }
-  std::vector<int> members;
-  neighbours(best, &members);
-  Eigen::Matrix3d rsum = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d tsum = Eigen::Vector3d::Zero();
-  for (int j : members) {
-    rsum += hyps[static_cast<std::size_t>(j)].r;
-    tsum += hyps[static_cast<std::size_t>(j)].t;
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rsum, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d rmean = svd.matrixU() * svd.matrixV().transpose();
-  if (rmean.determinant() < 0) {
-    Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-    d(2, 2) = -1;
-    rmean = svd.matrixU() * d * svd.matrixV().transpose();
-  }
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = rmean;
-  pose.translation() = tsum / static_cast<double>(members.size());
-  res.target_in_camera = pose;
-  res.found = true;
-  if (!options_.refine) return res;
-
   // Refinement: distinct image points, matched to visible projected vertices.
   std::vector<Eigen::Vector2d> points;
   auto add_point = [&points](const Eigen::Vector2d& p) {
@@ -301,61 +293,98 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
     add_point(tr.a_px);
     add_point(tr.b_px);
   }
-  for (const double gate : {options_.refine_gate_px, options_.final_gate_px}) {
-    const std::vector<bool> vis = model_.visible_vertices(pose.inverse().translation());
-    std::vector<Eigen::Vector2d> proj(static_cast<std::size_t>(nv));
-    for (int v = 0; v < nv; ++v)
-      proj[static_cast<std::size_t>(v)] =
-          camera_.project(pose * verts[static_cast<std::size_t>(v)]);
-    std::vector<int> point_of_vertex(static_cast<std::size_t>(nv), -1);
-    std::vector<double> dist_of_vertex(static_cast<std::size_t>(nv), gate);
-    for (int i = 0; i < static_cast<int>(points.size()); ++i) {
-      int bv = -1;
-      double bd = gate;
+  auto evaluate = [&](int seed, TrianglePoseResult& r) {
+    std::vector<int> members;
+    neighbours(seed, &members);
+    Eigen::Matrix3d rsum = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d tsum = Eigen::Vector3d::Zero();
+    for (int j : members) {
+      rsum += hyps[static_cast<std::size_t>(j)].r;
+      tsum += hyps[static_cast<std::size_t>(j)].t;
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rsum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d rmean = svd.matrixU() * svd.matrixV().transpose();
+    if (rmean.determinant() < 0) {
+      Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+      d(2, 2) = -1;
+      rmean = svd.matrixU() * d * svd.matrixV().transpose();
+    }
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = rmean;
+    pose.translation() = tsum / static_cast<double>(members.size());
+    r.target_in_camera = pose;
+    if (!options_.refine) return;
+    for (const double gate : {options_.refine_gate_px, options_.final_gate_px}) {
+      const std::vector<bool> vis = model_.visible_vertices(pose.inverse().translation());
+      std::vector<Eigen::Vector2d> proj(static_cast<std::size_t>(nv));
+      for (int v = 0; v < nv; ++v)
+        proj[static_cast<std::size_t>(v)] =
+            camera_.project(pose * verts[static_cast<std::size_t>(v)]);
+      std::vector<int> point_of_vertex(static_cast<std::size_t>(nv), -1);
+      std::vector<double> dist_of_vertex(static_cast<std::size_t>(nv), gate);
+      for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+        int bv = -1;
+        double bd = gate;
+        for (int v = 0; v < nv; ++v) {
+          if (!vis[static_cast<std::size_t>(v)]) continue;
+          const double d =
+              (proj[static_cast<std::size_t>(v)] - points[static_cast<std::size_t>(i)]).norm();
+          if (d < bd) bd = d, bv = v;
+        }
+        if (bv >= 0 && bd < dist_of_vertex[static_cast<std::size_t>(bv)]) {
+          dist_of_vertex[static_cast<std::size_t>(bv)] = bd;
+          point_of_vertex[static_cast<std::size_t>(bv)] = i;
+        }
+      }
+      std::vector<cv::Point3d> o;
+      std::vector<cv::Point2d> m;
       for (int v = 0; v < nv; ++v) {
-        if (!vis[static_cast<std::size_t>(v)]) continue;
-        const double d =
-            (proj[static_cast<std::size_t>(v)] - points[static_cast<std::size_t>(i)]).norm();
-        if (d < bd) bd = d, bv = v;
+        const int i = point_of_vertex[static_cast<std::size_t>(v)];
+        if (i < 0) continue;
+        const auto& p = verts[static_cast<std::size_t>(v)];
+        o.emplace_back(p.x(), p.y(), p.z());
+        m.emplace_back(points[static_cast<std::size_t>(i)].x(),
+                       points[static_cast<std::size_t>(i)].y());
       }
-      if (bv >= 0 && bd < dist_of_vertex[static_cast<std::size_t>(bv)]) {
-        dist_of_vertex[static_cast<std::size_t>(bv)] = bd;
-        point_of_vertex[static_cast<std::size_t>(bv)] = i;
+      r.correspondences = static_cast<int>(o.size());
+      if (o.size() < 4) break;
+      cv::Mat rm(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) rm.at<double>(i, j) = pose.linear()(i, j);
+        tvec.at<double>(i) = pose.translation()[i];
       }
+      cv::Rodrigues(rm, rvec);
+      if (!cv::solvePnP(o, m, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) break;
+      cv::Rodrigues(rvec, rm);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) pose.linear()(i, j) = rm.at<double>(i, j);
+        pose.translation()[i] = tvec.at<double>(i);
+      }
+      double ss = 0.0;
+      for (std::size_t i = 0; i < o.size(); ++i) {
+        const Eigen::Vector2d pp = camera_.project(pose * Eigen::Vector3d(o[i].x, o[i].y, o[i].z));
+        ss += (pp - Eigen::Vector2d(m[i].x, m[i].y)).squaredNorm();
+      }
+      r.rms_reprojection_px = std::sqrt(ss / static_cast<double>(o.size()));
     }
-    std::vector<cv::Point3d> o;
-    std::vector<cv::Point2d> m;
-    for (int v = 0; v < nv; ++v) {
-      const int i = point_of_vertex[static_cast<std::size_t>(v)];
-      if (i < 0) continue;
-      const auto& p = verts[static_cast<std::size_t>(v)];
-      o.emplace_back(p.x(), p.y(), p.z());
-      m.emplace_back(points[static_cast<std::size_t>(i)].x(),
-                     points[static_cast<std::size_t>(i)].y());
+    r.target_in_camera = pose;
+  };
+  TrianglePoseResult best = res;
+  bool have = false;
+  for (const auto& sd : seeds) {
+    TrianglePoseResult r = res;
+    r.found = true;
+    r.cluster_size = sd.first;
+    evaluate(sd.second, r);
+    if (!options_.refine) return r;  // the largest cluster, as the paper
+    if (!have || r.correspondences > best.correspondences ||
+        (r.correspondences == best.correspondences &&
+         r.rms_reprojection_px < best.rms_reprojection_px)) {
+      best = r;
+      have = true;
     }
-    res.correspondences = static_cast<int>(o.size());
-    if (o.size() < 4) break;
-    cv::Mat rm(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) rm.at<double>(i, j) = pose.linear()(i, j);
-      tvec.at<double>(i) = pose.translation()[i];
-    }
-    cv::Rodrigues(rm, rvec);
-    if (!cv::solvePnP(o, m, k, cv::noArray(), rvec, tvec, true, cv::SOLVEPNP_ITERATIVE)) break;
-    cv::Rodrigues(rvec, rm);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) pose.linear()(i, j) = rm.at<double>(i, j);
-      pose.translation()[i] = tvec.at<double>(i);
-    }
-    double ss = 0.0;
-    for (std::size_t i = 0; i < o.size(); ++i) {
-      const Eigen::Vector2d pp = camera_.project(pose * Eigen::Vector3d(o[i].x, o[i].y, o[i].z));
-      ss += (pp - Eigen::Vector2d(m[i].x, m[i].y)).squaredNorm();
-    }
-    res.rms_reprojection_px = std::sqrt(ss / static_cast<double>(o.size()));
   }
-  res.target_in_camera = pose;
-  return res;
+  return best;
 }
 
 }  // namespace ephor::rambo
