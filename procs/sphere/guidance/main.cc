@@ -130,6 +130,7 @@ int main(int argc, char** argv) {
       g.phase = static_cast<int8_t>(out->command.phase);
       g.estimates_used = guidance.estimates_used();
       g.estimates_rejected = guidance.estimates_rejected();
+      g.estimates_downweighted = guidance.estimates_downweighted();
       g.no_estimates = guidance.no_estimates();
       bus.publish(channels::kGuidance, g);
       ++published;
@@ -159,10 +160,11 @@ int main(int argc, char** argv) {
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info(
-        "summary: {} commands, {} estimates used, {} refused by the gate, {} windows without "
-        "an estimate, {} bad messages, {} estimates overwritten before use",
-        published.load(), guidance.estimates_used(), guidance.estimates_rejected(),
-        guidance.no_estimates(), guidance.bad_inputs(), estimates.overwritten());
+        "summary: {} commands, {} estimates used ({} down-weighted), {} refused by the gate, {} "
+        "windows without an estimate, {} bad messages, {} estimates overwritten before use",
+        published.load(), guidance.estimates_used(), guidance.estimates_downweighted(),
+        guidance.estimates_rejected(), guidance.no_estimates(), guidance.bad_inputs(),
+        estimates.overwritten());
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

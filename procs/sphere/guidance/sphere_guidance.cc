@@ -27,7 +27,10 @@ std::optional<GuidanceOutput> SphereGuidance::on_estimate(const EstimateInput& e
     const Eigen::Vector3d sigma = config_.measurement_sigma_m > 0
                                       ? Eigen::Vector3d::Constant(config_.measurement_sigma_m)
                                       : paper_measurement_sigma_m(e.position_m.z());
-    out.update = tracker_.update(e.t_s, e.position_m, sigma, e.velocity_m_s);
+    // The window's own velocity is not a hint: at 20 m Scan Line Extent's
+    // is off by tens of cm/s now and then, and a track started on it flies
+    // the chaser the wrong way. A new track starts at rest with a wide sigma.
+    out.update = tracker_.update(e.t_s, e.position_m, sigma);
     switch (out.update) {
       case SphereTracker::Update::kInitialised:
       case SphereTracker::Update::kReinitialised:
@@ -35,6 +38,9 @@ std::optional<GuidanceOutput> SphereGuidance::on_estimate(const EstimateInput& e
         out.used_estimate = true;
         ++used_;
         break;
+      case SphereTracker::Update::kDownweighted:
+        ++downweighted_;
+        [[fallthrough]];
       case SphereTracker::Update::kAccepted:
         ++updates_in_track_;
         out.used_estimate = true;

@@ -57,6 +57,7 @@ class SphereGuidance {
   const Eigen::Vector3d& chaser_velocity() const { return commanded_; }
   int estimates_used() const { return used_; }
   int estimates_rejected() const { return rejected_; }
+  int estimates_downweighted() const { return downweighted_; }
   int no_estimates() const { return none_; }
   int bad_inputs() const { return bad_; }
   const SphereTracker& tracker() const { return tracker_; }
@@ -68,7 +69,7 @@ class SphereGuidance {
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  // the chaser velocity last commanded
   std::optional<int64_t> last_window_;
   int updates_in_track_ = 0;
-  int used_ = 0, rejected_ = 0, none_ = 0, bad_ = 0;
+  int used_ = 0, rejected_ = 0, downweighted_ = 0, none_ = 0, bad_ = 0;
 };
 
 }  // namespace ephor::sphere

@@ -85,10 +85,10 @@ SphereTracker::Update SphereTracker::update(
   double t = t_;
   propagate(t_s, x, P, t, nullptr);
   const Eigen::Vector3d innovation = position_m - x.head<3>();
-  const Eigen::Matrix3d S = P.block<3, 3>(0, 0) + Eigen::Matrix3d(sigma_m.cwiseAbs2().asDiagonal());
-  const Eigen::LDLT<Eigen::Matrix3d> ldlt(S);
-  const double d2 = innovation.dot(ldlt.solve(innovation));
-  if (!(d2 <= config_.gate_chi2)) {
+  Eigen::Matrix3d R = sigma_m.cwiseAbs2().asDiagonal();
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt0(P.block<3, 3>(0, 0) + R);
+  const double d2 = innovation.dot(ldlt0.solve(innovation));
+  if (!(d2 <= config_.jump_chi2)) {
     if (++rejects_in_a_row_ >= config_.reinit_after_rejects) {
       initialise(t_s, position_m, sigma_m, velocity_hint_m_s);
       return Update::kReinitialised;
@@ -96,16 +96,18 @@ SphereTracker::Update SphereTracker::update(
     return Update::kRejected;
   }
   rejects_in_a_row_ = 0;
+  const bool downweight = d2 > config_.gate_chi2;
+  if (downweight) R *= d2 / config_.gate_chi2;
   propagate(t_s, x_, P_, t_, &changes_);
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(P_.block<3, 3>(0, 0) + R);
   // K = P H^T S^-1 with H = [I 0].
   const Eigen::Matrix<double, 6, 3> K = ldlt.solve(P_.block<6, 3>(0, 0).transpose()).transpose();
   x_ += K * innovation;
   Matrix6d IKH = Matrix6d::Identity();
   IKH.block<6, 3>(0, 0) -= K;
   // Joseph form: stays symmetric positive definite.
-  P_ = IKH * P_ * IKH.transpose() +
-       K * Eigen::Matrix3d(sigma_m.cwiseAbs2().asDiagonal()) * K.transpose();
-  return Update::kAccepted;
+  P_ = IKH * P_ * IKH.transpose() + K * R * K.transpose();
+  return downweight ? Update::kDownweighted : Update::kAccepted;
 }
 
 TrackPrediction SphereTracker::predict(double t_s) const {

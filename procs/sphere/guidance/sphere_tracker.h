@@ -24,10 +24,18 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct SphereTrackerConfig {
   double accel_noise_psd = 2e-7;            // white acceleration, (m/s^2)^2 / Hz per axis
-  double initial_velocity_sigma_m_s = 0.2;  // no velocity hint
-  double hint_velocity_sigma_m_s = 0.05;    // with the locator's window velocity
-  double gate_chi2 = 16.27;                 // 3 dof, 99.9 %: innovations beyond are refused
-  int reinit_after_rejects = 3;             // consecutive refusals: a new sphere, start again
+  double initial_velocity_sigma_m_s = 0.3;  // no velocity hint
+  double hint_velocity_sigma_m_s = 0.05;    // with a trusted velocity hint
+  // Innovations beyond gate_chi2 (3 dof, 99.9 %) are down-weighted: the
+  // measurement's covariance is inflated by d^2 / gate_chi2 (Huber), so an
+  // estimate a few sigma out (Scan Line Extent's sign choice gone wrong on
+  // a line or two) pulls the track only as far as one at the gate would.
+  // Beyond jump_chi2 (20 sigma) they are refused: another sphere, or a
+  // track gone wrong; after reinit_after_rejects refusals in a row the
+  // track starts again from the measurement.
+  double gate_chi2 = 16.27;
+  double jump_chi2 = 400.0;
+  int reinit_after_rejects = 3;
 };
 
 // The paper's accuracy at a distance as a 1-sigma per axis (m): section 1's
@@ -46,7 +54,14 @@ struct TrackPrediction {
 
 class SphereTracker {
  public:
-  enum class Update { kInitialised, kAccepted, kRejected, kReinitialised, kOutOfOrder };
+  enum class Update {
+    kInitialised,
+    kAccepted,
+    kDownweighted,
+    kRejected,
+    kReinitialised,
+    kOutOfOrder
+  };
 
   explicit SphereTracker(const SphereTrackerConfig& config = {});
 

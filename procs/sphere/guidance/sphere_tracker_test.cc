@@ -79,6 +79,28 @@ TEST(SphereTracker, KnownVelocityChangesAreFollowedWithoutLag) {
   EXPECT_NEAR(f.predict(10.75).velocity_m_s.z(), -0.125, 1e-3);
 }
 
+// An estimate 5 cm out on a track good to a few mm (about 6 sigma): used,
+// but pulls the track no further than one at the gate (4 sigma) would.
+TEST(SphereTracker, DownweightsAnEstimateBeyondTheGate) {
+  SphereTracker f, g;
+  for (int k = 0; k < 10; ++k) {
+    f.update(0.5 * k, Eigen::Vector3d(0, 0, 5.0), Eigen::Vector3d::Constant(0.008));
+    g.update(0.5 * k, Eigen::Vector3d(0, 0, 5.0), Eigen::Vector3d::Constant(0.008));
+  }
+  const double sy = std::sqrt(
+      f.predict(5.0).position_sigma_m.y() * f.predict(5.0).position_sigma_m.y() + 0.008 * 0.008);
+  EXPECT_EQ(f.update(5.0, Eigen::Vector3d(0, 0.05, 5.0), Eigen::Vector3d::Constant(0.008)),
+            SphereTracker::Update::kDownweighted);
+  const double at_gate = std::sqrt(16.27) * sy;
+  EXPECT_EQ(
+      g.update(5.0, Eigen::Vector3d(0, at_gate * 0.999, 5.0), Eigen::Vector3d::Constant(0.008)),
+      SphereTracker::Update::kAccepted);
+  // About as far as the one at the gate (the inflated sigma also changes the
+  // gain's split between position and velocity), much less than a full update.
+  EXPECT_LT(f.predict(5.0).position_m.y(), g.predict(5.0).position_m.y());
+  EXPECT_GT(f.predict(5.0).position_m.y(), 0.8 * g.predict(5.0).position_m.y());
+}
+
 TEST(SphereTracker, GatesOutliersAndStartsAgainOnANewSphere) {
   SphereTracker f;
   for (int k = 0; k < 10; ++k) {
