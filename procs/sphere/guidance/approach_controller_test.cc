@@ -111,3 +111,38 @@ TEST(ApproachController, RefusesNonsenseSettings) {
 
 }  // namespace
 }  // namespace ephor::sphere
+
+namespace ephor::sphere {
+namespace {
+
+EstimateInput estimate(int64_t window, double z) {
+  EstimateInput e;
+  e.window = window;
+  e.window_end_s = 0.5 * static_cast<double>(window + 1);
+  e.ok = true;
+  e.t_s = e.window_end_s - 0.25;
+  e.position_m = Eigen::Vector3d(0, 0, z);
+  return e;
+}
+
+// Repeats, out-of-order and non-finite estimates are ignored; an estimate
+// far back in windows means the ranger started again, and the guidance
+// starts a new track instead of waiting forever for the old window count.
+TEST(SphereGuidance, IgnoresRepeatsAndFollowsARestartedRanger) {
+  SphereGuidance g;
+  for (int64_t k = 0; k < 10; ++k) ASSERT_TRUE(g.on_estimate(estimate(k, 5.0)).has_value());
+  EXPECT_FALSE(g.on_estimate(estimate(9, 5.0)).has_value());
+  EXPECT_FALSE(g.on_estimate(estimate(7, 5.0)).has_value());
+  EstimateInput nan = estimate(10, 5.0);
+  nan.position_m.x() = std::nan("");
+  EXPECT_FALSE(g.on_estimate(nan).has_value());
+  EXPECT_EQ(g.bad_inputs(), 3);
+  const auto restarted = g.on_estimate(estimate(0, 20.0));
+  ASSERT_TRUE(restarted.has_value());
+  EXPECT_EQ(g.restarts(), 1);
+  EXPECT_EQ(restarted->update, SphereTracker::Update::kInitialised);
+  EXPECT_NEAR(restarted->state.position_m.z(), 20.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace ephor::sphere

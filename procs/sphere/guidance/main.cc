@@ -106,7 +106,11 @@ int main(int argc, char** argv) {
     runtime.add_triggered("guide", std::chrono::milliseconds(20), [&] {
       const auto m = estimates.take();
       if (!m) return;
+      const int restarts_before = guidance.restarts();
       const auto out = guidance.on_estimate(from_message(*m));
+      if (guidance.restarts() != restarts_before) {
+        spdlog::info("window {} after a later one: the ranger started again; new track", m->window);
+      }
       if (!out) {
         if (guidance.bad_inputs() <= 10 || guidance.bad_inputs() % 100 == 0) {
           spdlog::warn(

@@ -16,8 +16,15 @@ std::optional<GuidanceOutput> SphereGuidance::on_estimate(const EstimateInput& e
     return std::nullopt;
   }
   if (last_window_ && e.window <= *last_window_) {
-    ++bad_;
-    return std::nullopt;
+    if (*last_window_ - e.window <= kRestartWindows) {
+      ++bad_;  // a repeat or out of order
+      return std::nullopt;
+    }
+    // Far back: the ranger started again (its scan clock restarts at 0), or
+    // the last one was bogus. Start a new track; the chaser keeps its velocity.
+    tracker_.reset();
+    updates_in_track_ = 0;
+    ++restarts_;
   }
   last_window_ = e.window;
 

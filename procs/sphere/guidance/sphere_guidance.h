@@ -51,7 +51,10 @@ class SphereGuidance {
   explicit SphereGuidance(const GuidanceConfig& config = {});
 
   // Returns nullopt for an estimate that is not newer than the last one
-  // (a repeat or out of order) or has non-finite numbers; counted.
+  // (a repeat or out of order: up to kRestartWindows back) or has non-finite
+  // numbers; counted. An estimate further back means the ranger started
+  // again: the track starts again from it.
+  static constexpr int64_t kRestartWindows = 4;
   std::optional<GuidanceOutput> on_estimate(const EstimateInput& e);
 
   const Eigen::Vector3d& chaser_velocity() const { return commanded_; }
@@ -60,6 +63,7 @@ class SphereGuidance {
   int estimates_downweighted() const { return downweighted_; }
   int no_estimates() const { return none_; }
   int bad_inputs() const { return bad_; }
+  int restarts() const { return restarts_; }
   const SphereTracker& tracker() const { return tracker_; }
 
  private:
@@ -69,7 +73,7 @@ class SphereGuidance {
   Eigen::Vector3d commanded_ = Eigen::Vector3d::Zero();  // the chaser velocity last commanded
   std::optional<int64_t> last_window_;
   int updates_in_track_ = 0;
-  int used_ = 0, rejected_ = 0, downweighted_ = 0, none_ = 0, bad_ = 0;
+  int used_ = 0, rejected_ = 0, downweighted_ = 0, none_ = 0, bad_ = 0, restarts_ = 0;
 };
 
 }  // namespace ephor::sphere

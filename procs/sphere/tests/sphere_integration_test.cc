@@ -5,7 +5,8 @@
 // chaser. A listener on the same bus checks what a user cares about:
 // estimates every half second, each within a few cm of the ranger's ground
 // truth at the estimate's time, a command for each, and the run ending by
-// itself with the sphere captured (below 2 cm/s, within 2 cm of the axis).
+// itself with the sphere captured (below 2 cm/s, within 2 cm of the axis),
+// even with malformed messages thrown at each process along the way.
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "common/sphere_comm/sphere_channels.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "ephor/sphere_guidance_t.hpp"
+#include "ephor/sphere_scan_line_t.hpp"
 #include "ephor/sphere_truth_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -55,6 +57,7 @@ TEST(Sphere, ApproachFromFiveMetresIsLocatedAtTwoHertzAndCaptured) {
   Heard heard;
   Bus bus(kUrl, "sphere-test");
   bus.subscribe<sphere_estimate_t>(sphere::channels::kEstimate, [&](const sphere_estimate_t& m) {
+    if (m.header.sender == "sphere-test") return;  // our own bad input
     std::lock_guard<std::mutex> lock(heard.mutex);
     heard.estimates.push_back(m);
   });
@@ -63,6 +66,7 @@ TEST(Sphere, ApproachFromFiveMetresIsLocatedAtTwoHertzAndCaptured) {
     heard.truth.push_back(m);
   });
   bus.subscribe<sphere_guidance_t>(sphere::channels::kGuidance, [&](const sphere_guidance_t& m) {
+    if (m.header.sender == "sphere-test") return;  // our own bad input
     std::lock_guard<std::mutex> lock(heard.mutex);
     heard.guidance.push_back(m);
   });
@@ -73,6 +77,40 @@ TEST(Sphere, ApproachFromFiveMetresIsLocatedAtTwoHertzAndCaptured) {
           {source_path("deploy/sphere.pbtxt"), "--headless", "--duration", "75", "--start_m", "5",
            "--seed", "2", "--max_s", "70"},
           {{"LCM_DEFAULT_URL", kUrl}});
+  // Bad input while the loop runs: a scan line with a NaN time, bytes that
+  // are no message at all, an estimate with a NaN position, a command with
+  // a NaN velocity. Each is refused and counted; the approach goes on.
+  ASSERT_TRUE(wait_until(
+      [&] {
+        std::lock_guard<std::mutex> lock(heard.mutex);
+        return heard.estimates.size() >= 4;
+      },
+      seconds(30)))
+      << "no estimates";
+  {
+    sphere_scan_line_t line{};
+    line.line = 1;
+    line.window_s = 0.5;
+    line.num_pulses = 2;
+    line.t_s = {std::nan(""), 1.0};
+    line.azimuth_rad = {0.0, 0.0};
+    line.elevation_rad = {0.0, 0.0};
+    line.range_m = {5.0, 5.0};
+    bus.publish(sphere::channels::kScanLine, line);
+    const char garbage[] = "not an lcm message";
+    bus.publish_raw(sphere::channels::kScanLine, garbage, sizeof garbage);
+    sphere_estimate_t est{};
+    est.window = 1000000;
+    est.window_end_s = 500000.5;
+    est.ok = true;
+    est.t_s = 500000.25;
+    est.position_m[0] = std::nan("");
+    bus.publish(sphere::channels::kEstimate, est);
+    sphere_guidance_t cmd{};
+    cmd.apply_t_s = 0.0;
+    cmd.chaser_velocity_m_s[2] = std::nan("");
+    bus.publish(sphere::channels::kGuidance, cmd);
+  }
   ASSERT_TRUE(wait_until(
       [&] {
         for (const auto& e : p.exits())
@@ -81,6 +119,9 @@ TEST(Sphere, ApproachFromFiveMetresIsLocatedAtTwoHertzAndCaptured) {
       },
       seconds(90)))
       << "the run did not end";
+  EXPECT_TRUE(p.has_line("launch", "SPHERE_SCAN_LINE from sphere-test refused"));
+  EXPECT_TRUE(p.has_line("launch", "SPHERE_ESTIMATE window 1000000 from sphere-test ignored"));
+  EXPECT_TRUE(p.has_line("launch", "SPHERE_GUIDANCE from sphere-test ignored"));
   ASSERT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
   // The verdict is published just before the ranger exits; give the bus a moment to deliver it.
   wait_until(
