@@ -24,13 +24,12 @@ ApproachResult fly_approach(const ApproachSimConfig& config) {
   double est_sq[3] = {0, 0, 0}, filt_sq[3] = {0, 0, 0};
   for (int64_t k = 0; !world.finished(); ++k) {
     const double t_end = static_cast<double>(k + 1) * w;
-    // The truth of window k must be read before the world moves on to k + 1.
-    const RelativeMotion motion_k = world.motion();
     Window win;
     win.t_begin_s = static_cast<double>(k) * w;
     win.t_end_s = t_end;
     // Lines of window k are all out by its end (the last pulse is 0.1 ms before it).
     std::vector<RangerLine> lines = world.advance_to(t_end - 1e-9);
+    // The truth of window k, read before the world moves on to k + 1.
     const SphereTrajectory truth_k = world.motion().trajectory();
     for (RangerLine& l : lines) win.lines.push_back(std::move(l.line));
     if (world.finished()) break;
@@ -78,7 +77,6 @@ ApproachResult fly_approach(const ApproachSimConfig& config) {
       if (out->update == SphereTracker::Update::kReinitialised) ++r.reinitialised;
       world.command(out->apply_t_s, out->command.chaser_velocity_m_s);
     }
-    (void)motion_k;
   }
   r.rejected = guidance.estimates_rejected();
   r.downweighted = guidance.estimates_downweighted();
