@@ -26,6 +26,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -34,6 +35,7 @@
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "common/lcm/bus.h"
 #include "common/log/log.h"
@@ -142,6 +144,8 @@ int main(int argc, char** argv) {
                  "approaches, then exit 0 (0 = until stopped; each after the first starts a "
                  "fresh sphere at the start distance)")
       ->check(CLI::Range(0, 1000000));
+  std::string summary_path;
+  app.add_option("--summary", summary_path, "write a JSON summary of the approaches here at exit");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until done)")
       ->check(CLI::Range(0.0, 1e7));
   try {
@@ -284,6 +288,28 @@ int main(int argc, char** argv) {
         "commands, {} refused",
         captured, world.verdicts().size(), last, world.windows_started(), lines_published.load(),
         commands.load(), commands_refused.load());
+    if (!summary_path.empty()) {
+      nlohmann::json runs = nlohmann::json::array();
+      for (const CaptureVerdict& v : world.verdicts()) {
+        runs.push_back({{"captured", v.captured},
+                        {"t_s", v.t_s},
+                        {"speed_m_s", v.speed_m_s},
+                        {"offset_m", v.offset_m},
+                        {"verdict", v.text}});
+      }
+      const nlohmann::json j = {{"scenario", "sphere"},
+                                {"seed", seed},
+                                {"start_m", start_m},
+                                {"captured", captured},
+                                {"approaches", runs},
+                                {"windows", world.windows_started()},
+                                {"lines", lines_published.load()},
+                                {"guidance_commands", commands.load()},
+                                {"commands_refused", commands_refused.load()}};
+      std::ofstream out(summary_path);
+      out << j.dump(2) << "\n";
+      if (!out) spdlog::error("cannot write the summary to {}", summary_path);
+    }
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
