@@ -213,7 +213,11 @@ class ReplayTest : public ::testing::Test {
     Processes procs;
     const std::vector<std::pair<std::string, std::string>> env = {{"EPHOR_HOST", "testhost"}};
     procs.start("sim", bin("ephor-sim"),
-                {"--no-mlock", "--name", "sim", "--sheep", "4", "--seed", "3"}, env);
+                {"--no-mlock", "--name", "sim", "--sheep", "4", "--seed", "3",
+                 // The 30 mm/s stress speed: this test wants sheep that cross the arm's
+                 // reach and the image within its seconds (at the 8 mm/s default they barely move).
+                 "--speed-mm-s", "30"},
+                env);
     procs.start("vision", bin("ephor-vision"), {"--no-mlock", "--name", "vision"}, env);
     procs.start("worldmodel", bin("ephor-worldmodel"), {"--no-mlock", "--name", "worldmodel"}, env);
     record_ok_ = wait_until([&] { return recorder.objects() >= kRecordedObjects; }, seconds(30));

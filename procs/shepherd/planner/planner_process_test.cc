@@ -246,7 +246,8 @@ TEST(PlannerProcess, StopsPlanningWhileTheArmServesAnotherWorkcell) {
       },
       seconds(10)))
       << "planning did not resume once the arm agreed";
-  EXPECT_TRUE(procs.has_line("planner", "planning again"));
+  // The log line comes through the output pipe, after the goal maybe.
+  EXPECT_TRUE(wait_until([&] { return procs.has_line("planner", "planning again"); }, seconds(5)));
   EXPECT_TRUE(procs.exits().empty()) << "ephor-planner exited";
 }
 
