@@ -23,7 +23,6 @@
 #include <cmath>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +30,13 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
 
+#include "common/catch/board_file.h"
+#include "common/catch/camera_file.h"
+#include "common/catch/catch_channels.h"
+#include "common/catch/vision/ball_window.h"
+#include "common/catch/vision/board_pose_estimator.h"
+#include "common/catch/vision/circle_finder.h"
+#include "common/catch/vision/motion_centroid.h"
 #include "common/config/repo_paths.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -43,12 +49,6 @@
 #include "ephor/catch_ball_t.hpp"
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "common/catch/board_file.h"
-#include "common/catch/camera_file.h"
-#include "common/catch/catch_channels.h"
-#include "procs/catch/vision/board_pose_estimator.h"
-#include "procs/catch/vision/circle_finder.h"
-#include "procs/catch/vision/motion_centroid.h"
 
 namespace {
 
@@ -56,26 +56,6 @@ using namespace ephor;
 using namespace ephor::catching;
 
 constexpr int kInitFrames = 10;  // the paper read 10 histograms
-
-// "u0,v0,u1,v1;..." four windows (top-left, top-right, bottom-left, bottom-right).
-std::array<cv::Rect, 4> parse_windows(const std::string& text) {
-  std::array<cv::Rect, 4> out;
-  std::stringstream ss(text);
-  std::string item;
-  int i = 0;
-  while (std::getline(ss, item, ';')) {
-    int u0, v0, u1, v1;
-    char c1, c2, c3;
-    std::stringstream is(item);
-    if (i >= 4 || !(is >> u0 >> c1 >> v0 >> c2 >> u1 >> c3 >> v1) || u1 <= u0 || v1 <= v0)
-      throw std::invalid_argument(
-          "--circle-windows: want four 'u0,v0,u1,v1' separated by ';', got '" + text + "'");
-    out[static_cast<size_t>(i++)] = cv::Rect(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
-  }
-  if (i != 4)
-    throw std::invalid_argument("--circle-windows: want 4 windows, got " + std::to_string(i));
-  return out;
-}
 
 catch_board_pose_t to_message(const CircleFinderResult& circles, const BoardPoseResult& pose) {
   catch_board_pose_t m{};
@@ -126,7 +106,7 @@ int main(int argc, char** argv) {
     const BoardSpec board = load_board_file(resolve_repo_path(board_path));
     const CameraIntrinsics intrinsics = load_camera_file(resolve_repo_path(camera_path));
     CircleFinderOptions finder_options;
-    if (!windows_text.empty()) finder_options.windows = parse_windows(windows_text);
+    if (!windows_text.empty()) finder_options.windows = parse_circle_windows(windows_text);
     const CircleFinder finder(board, intrinsics, finder_options);
     const BoardPoseEstimator estimator(board, intrinsics);
     MotionCentroid motion;
@@ -151,28 +131,14 @@ int main(int argc, char** argv) {
 
     // The window of interest for a frame captured at `utime`: around the
     // world model's newest ball position carried forward to that time.
+    std::optional<BallWindow> ball_window;
     auto window_for = [&](int64_t utime) -> std::optional<cv::Rect> {
-      if (no_window || !pose) return std::nullopt;
+      if (no_window || !ball_window) return std::nullopt;
       const auto w = worlds.latest();
       if (!w || w->status != catch_world_t::STATUS_TRACKING) return std::nullopt;
-      const double dt = static_cast<double>(utime - w->utime) / 1e6;
-      if (dt < 0.0 || dt > 0.1) return std::nullopt;
-      const Eigen::Vector3d now(w->position_b_mm[0] + w->velocity_b_mm_s[0] * dt,
-                                w->position_b_mm[1] + w->velocity_b_mm_s[1] * dt,
-                                board.ball_radius_mm());
-      const Eigen::Vector3d before(now.x() - w->velocity_b_mm_s[0] / 30.0,
-                                   now.y() - w->velocity_b_mm_s[1] / 30.0, now.z());
-      if (!now.allFinite() || !before.allFinite()) return std::nullopt;
-      const Eigen::Vector2d a = estimator.project(pose->board_to_camera, now);
-      const Eigen::Vector2d b = estimator.project(pose->board_to_camera, before);
-      // Both the ball now and where it was 1/30 s ago (the differenced frame).
-      const cv::Rect r(cv::Point(static_cast<int>(std::min(a.x(), b.x()) - window_margin_px),
-                                 static_cast<int>(std::min(a.y(), b.y()) - window_margin_px)),
-                       cv::Point(static_cast<int>(std::max(a.x(), b.x()) + window_margin_px),
-                                 static_cast<int>(std::max(a.y(), b.y()) + window_margin_px)));
-      const cv::Rect clipped = r & cv::Rect(0, 0, intrinsics.width, intrinsics.height);
-      if (clipped.area() <= 0) return std::nullopt;
-      return clipped;
+      return ball_window->around(Eigen::Vector2d(w->position_b_mm[0], w->position_b_mm[1]),
+                                 Eigen::Vector2d(w->velocity_b_mm_s[0], w->velocity_b_mm_s[1]),
+                                 static_cast<double>(utime - w->utime) / 1e6);
     };
 
     // Released by each frame's arrival (the PIPE ran on the video clock):
@@ -212,6 +178,8 @@ int main(int argc, char** argv) {
           return;
         }
         pose = p;
+        ball_window.emplace(board, intrinsics, p.board_to_camera,
+                            BallWindowOptions{window_margin_px, 1.0 / 30.0, 0.1});
         last_pose_sent_us = wall_us();
         spdlog::info(
             "board pose from the circles: reprojection {:.3f} px RMS, IPPE error ratio "

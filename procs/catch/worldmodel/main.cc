@@ -37,7 +37,7 @@
 #include "common/catch/board_survey.h"
 #include "common/catch/camera_file.h"
 #include "common/catch/catch_channels.h"
-#include "procs/catch/worldmodel/ball_world_model.h"
+#include "common/catch/worldmodel/ball_world_model.h"
 
 namespace {
 

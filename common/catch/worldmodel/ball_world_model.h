@@ -31,10 +31,10 @@
 #include <Eigen/Core>
 
 #include "common/catch/board_model.h"
-#include "procs/catch/worldmodel/ball_kalman_filter.h"
-#include "procs/catch/worldmodel/ball_measurement_gate.h"
-#include "procs/catch/worldmodel/board_ray.h"
-#include "procs/catch/worldmodel/exit_predictor.h"
+#include "common/catch/worldmodel/ball_kalman_filter.h"
+#include "common/catch/worldmodel/ball_measurement_gate.h"
+#include "common/catch/worldmodel/board_ray.h"
+#include "common/catch/worldmodel/exit_predictor.h"
 
 namespace ephor::catching {
 

@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/ball_kalman_filter.h"
+#include "common/catch/worldmodel/ball_kalman_filter.h"
 
 #include <cmath>
 #include <stdexcept>

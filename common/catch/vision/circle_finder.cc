@@ -1,4 +1,4 @@
-#include "procs/catch/vision/circle_finder.h"
+#include "common/catch/vision/circle_finder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -292,6 +292,27 @@ CircleFinderResult CircleFinder::find(const std::vector<cv::Mat>& frames) const 
     for (const auto& g : good) spread += (g.circles[i].centroid_px - mean).squaredNorm() / n;
     out.circles[i] = {mean, area, std::sqrt(spread)};
   }
+  return out;
+}
+
+std::array<cv::Rect, 4> parse_circle_windows(const std::string& text) {
+  std::array<cv::Rect, 4> out;
+  std::stringstream ss(text);
+  std::string item;
+  int i = 0;
+  while (std::getline(ss, item, ';')) {
+    int u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+    char c1 = 0, c2 = 0, c3 = 0;
+    std::stringstream is(item);
+    if (i >= 4 || !(is >> u0 >> c1 >> v0 >> c2 >> u1 >> c3 >> v1) || c1 != ',' || c2 != ',' ||
+        c3 != ',' || u1 <= u0 || v1 <= v0)
+      throw std::invalid_argument("circle windows: want four 'u0,v0,u1,v1' (u1 > u0, v1 > v0) " +
+                                  std::string("separated by ';', got '") + text + "'");
+    out[static_cast<size_t>(i++)] = cv::Rect(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
+  }
+  if (i != 4)
+    throw std::invalid_argument("circle windows: want 4 windows, got " + std::to_string(i) +
+                                " in '" + text + "'");
   return out;
 }
 

@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/ball_world_model.h"
+#include "common/catch/worldmodel/ball_world_model.h"
 
 #include <cmath>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "procs/catch/worldmodel/test_scene.h"
+#include "common/catch/worldmodel/test_scene.h"
 
 namespace ephor::catching {
 namespace {

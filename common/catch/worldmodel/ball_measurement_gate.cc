@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/ball_measurement_gate.h"
+#include "common/catch/worldmodel/ball_measurement_gate.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,11 +1,11 @@
-#include "procs/catch/vision/motion_centroid.h"
+#include "common/catch/vision/motion_centroid.h"
 
 #include <cmath>
 #include <iostream>
 
 #include <gtest/gtest.h>
 
-#include "procs/catch/vision/test_scenes.h"
+#include "common/catch/vision/test_scenes.h"
 
 namespace ephor::catching {
 namespace {

@@ -32,7 +32,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/catch/board_model.h"
-#include "procs/catch/vision/board_pose_estimator.h"
+#include "common/catch/vision/board_pose_estimator.h"
 
 namespace ephor::catching {
 
@@ -95,5 +95,11 @@ class CircleFinder {
   CircleFinderOptions options_;
   BoardPoseEstimator pose_;
 };
+
+// The operator's four windows as written on a command line:
+// "u0,v0,u1,v1;u0,v0,u1,v1;..." (top-left, top-right, bottom-left,
+// bottom-right; inclusive corners, px). Throws std::invalid_argument naming
+// what is wrong with `text`.
+std::array<cv::Rect, 4> parse_circle_windows(const std::string& text);
 
 }  // namespace ephor::catching

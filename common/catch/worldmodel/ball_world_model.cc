@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/ball_world_model.h"
+#include "common/catch/worldmodel/ball_world_model.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "procs/catch/vision/motion_centroid.h"
+#include "common/catch/vision/motion_centroid.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "procs/catch/vision/synthetic_board.h"
+#include "common/catch/vision/synthetic_board.h"
 
 #include <algorithm>
 #include <cmath>

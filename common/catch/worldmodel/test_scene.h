@@ -1,5 +1,5 @@
 #pragma once
-// Test and benchmark helpers for procs/catch/worldmodel: a camera looking at
+// Test and benchmark helpers for common/catch/worldmodel: a camera looking at
 // the default board, and a simulated ball rolling down it.
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "procs/catch/vision/board_pose_estimator.h"
+#include "common/catch/vision/board_pose_estimator.h"
 
 #include <cmath>
 #include <limits>

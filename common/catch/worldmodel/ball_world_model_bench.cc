@@ -9,8 +9,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "procs/catch/worldmodel/ball_world_model.h"
-#include "procs/catch/worldmodel/test_scene.h"
+#include "common/catch/worldmodel/ball_world_model.h"
+#include "common/catch/worldmodel/test_scene.h"
 
 namespace {
 

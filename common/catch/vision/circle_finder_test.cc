@@ -1,11 +1,11 @@
-#include "procs/catch/vision/circle_finder.h"
+#include "common/catch/vision/circle_finder.h"
 
 #include <iostream>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "procs/catch/vision/test_scenes.h"
+#include "common/catch/vision/test_scenes.h"
 
 namespace ephor::catching {
 namespace {

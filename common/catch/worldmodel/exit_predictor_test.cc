@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/exit_predictor.h"
+#include "common/catch/worldmodel/exit_predictor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "procs/catch/worldmodel/ball_kalman_filter.h"
-#include "procs/catch/worldmodel/test_scene.h"
+#include "common/catch/worldmodel/ball_kalman_filter.h"
+#include "common/catch/worldmodel/test_scene.h"
 
 namespace ephor::catching {
 namespace {

@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/exit_predictor.h"
+#include "common/catch/worldmodel/exit_predictor.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "procs/catch/worldmodel/board_ray.h"
+#include "common/catch/worldmodel/board_ray.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -6,10 +6,10 @@
 
 #include <benchmark/benchmark.h>
 
-#include "procs/catch/vision/board_pose_estimator.h"
-#include "procs/catch/vision/circle_finder.h"
-#include "procs/catch/vision/motion_centroid.h"
-#include "procs/catch/vision/test_scenes.h"
+#include "common/catch/vision/board_pose_estimator.h"
+#include "common/catch/vision/circle_finder.h"
+#include "common/catch/vision/motion_centroid.h"
+#include "common/catch/vision/test_scenes.h"
 
 namespace ephor::catching {
 namespace {

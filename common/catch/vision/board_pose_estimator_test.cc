@@ -1,4 +1,4 @@
-#include "procs/catch/vision/board_pose_estimator.h"
+#include "common/catch/vision/board_pose_estimator.h"
 
 #include <cmath>
 #include <iostream>
@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "procs/catch/vision/circle_finder.h"
-#include "procs/catch/vision/test_scenes.h"
+#include "common/catch/vision/circle_finder.h"
+#include "common/catch/vision/test_scenes.h"
 
 namespace ephor::catching {
 namespace {

@@ -1,10 +1,10 @@
-#include "procs/catch/worldmodel/ball_measurement_gate.h"
+#include "common/catch/worldmodel/ball_measurement_gate.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "procs/catch/worldmodel/test_scene.h"
+#include "common/catch/worldmodel/test_scene.h"
 
 namespace ephor::catching {
 namespace {

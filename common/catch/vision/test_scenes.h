@@ -5,7 +5,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "procs/catch/vision/synthetic_board.h"
+#include "common/catch/vision/synthetic_board.h"
 
 namespace ephor::catching::testing {
 

@@ -1,8 +1,8 @@
-#include "procs/catch/worldmodel/board_ray.h"
+#include "common/catch/worldmodel/board_ray.h"
 
 #include <gtest/gtest.h>
 
-#include "procs/catch/worldmodel/test_scene.h"
+#include "common/catch/worldmodel/test_scene.h"
 
 namespace ephor::catching {
 namespace {
