@@ -108,7 +108,8 @@ CommandResult CommandValidator::validate(const std::string& command,
 
   const auto value = param(params, "value");
   if (command != "pause" && command != "mode" && command != "scan" && command != "planner" &&
-      command != "sheep" && command != "estop") {
+      command != "sheep") {
+    // estop never gets here (DisplayServer answers it) but is one of the page's commands.
     return refuse("unknown command '" + command +
                   "' (want pause, mode, scan, planner, sheep, box or estop)");
   }
@@ -139,12 +140,6 @@ CommandResult CommandValidator::validate(const std::string& command,
       return refuse("scan '" + s + "' is neither full nor axis");
     }
     return accept(Target::kVision, next);
-  }
-  if (command == "estop") {
-    const auto b = parse_bool(s);
-    if (!b) return refuse("estop value '" + s + "' is neither true nor false");
-    next.estop = *b;
-    return accept(Target::kEstop, next);
   }
   if (command == "planner") {
     if (s != "single" && s != "multi" && s != "lookahead") {

@@ -15,7 +15,7 @@
 //   planner  single|multi|lookahead
 //   sheep    integer 0..64         simulator herd size
 //   box      u, v (px, inside the image), half (px, 2..200), visible true|false
-//   estop    true|false            stop the arm (latched in ephor-arm) / release it
+// (The page's STOP, cmd=estop, is every arm system's: DisplayServer's.)
 //
 // Pure: no LCM, no I/O; not thread-safe (the caller holds its lock).
 
@@ -52,10 +52,9 @@ struct Controls {
   SimControl sim;
   std::string planner = "multi";
   CalibrationBox box;
-  bool estop = false;  // the page's STOP is pressed (ESTOP repeated at 1 Hz while it is)
 };
 
-enum class Target { kNone, kVision, kSim, kPlanner, kBox, kEstop };
+enum class Target { kNone, kVision, kSim, kPlanner, kBox };
 
 struct CommandResult {
   bool ok = false;

@@ -61,22 +61,6 @@ TEST_F(CommandValidatorTest, PlannerKinds) {
   EXPECT_NE(r.reason.find("greedy"), std::string::npos);
 }
 
-TEST_F(CommandValidatorTest, EstopHoldsAndReleasesAndRefusesOtherValues) {
-  auto r = run("estop", {{"value", "true"}});
-  ASSERT_TRUE(r.ok) << r.reason;
-  EXPECT_EQ(r.target, Target::kEstop);
-  EXPECT_TRUE(r.controls.estop);
-  EXPECT_EQ(r.controls.planner, "single");  // nothing else changes
-  current_ = r.controls;
-  r = run("estop", {{"value", "false"}});
-  ASSERT_TRUE(r.ok);
-  EXPECT_FALSE(r.controls.estop);
-  r = run("estop", {{"value", "maybe"}});
-  EXPECT_FALSE(r.ok);
-  EXPECT_NE(r.reason.find("maybe"), std::string::npos);
-  EXPECT_FALSE(run("estop", {}).ok);
-}
-
 TEST_F(CommandValidatorTest, BoxMustLieInsideTheImage) {
   auto r = run("box", {{"u", "100.5"}, {"v", "200"}, {"half", "20"}});
   ASSERT_TRUE(r.ok) << r.reason;

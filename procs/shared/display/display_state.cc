@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "procs/shared/display/json_format.h"
+
 namespace ephor::display {
 namespace {
 
@@ -19,14 +21,6 @@ const char* state_name(int state) {
     default:
       return "dead";
   }
-}
-
-// Rounded to 0.1 so the JSON stays small; NaN/inf become null-safe 0.
-double r1(double x) { return std::isfinite(x) ? std::round(x * 10.0) / 10.0 : 0.0; }
-
-// Age in ms of something received at `then_us`, or -1 when never.
-double age_ms(int64_t then_us, int64_t now_us) {
-  return then_us == 0 ? -1.0 : static_cast<double>(now_us - then_us) / 1e3;
 }
 
 nlohmann::json point(const ImagePoint& p) { return nlohmann::json::array({r1(p.u), r1(p.v)}); }
@@ -73,11 +67,6 @@ void DisplayState::on_arm(ArmView arm, int64_t now_us) {
 void DisplayState::on_truth(TruthView truth, int64_t now_us) {
   truth_ = std::move(truth);
   truth_us_ = now_us;
-}
-
-void DisplayState::on_sched(HostSched host) {
-  const std::string name = host.host;
-  sched_[name] = std::move(host);
 }
 
 void DisplayState::on_arm_command(const std::string& sender, int64_t seq,
@@ -197,43 +186,6 @@ nlohmann::json DisplayState::to_json(const Controls& controls, int64_t now_us) c
     j["truth"] = nullptr;
   }
 
-  json hosts = json::array();
-  for (const auto& [name, h] : sched_) {
-    json tasks = json::array();
-    for (const auto& t : h.tasks) {
-      tasks.push_back({{"process", t.process},
-                       {"task", t.task},
-                       {"cpu", t.cpu},
-                       {"policy", t.policy},
-                       {"priority", t.priority},
-                       {"periodic", t.periodic},
-                       {"period_us", t.period_us},
-                       {"deadline_us", t.deadline_us},
-                       {"exec_p50_us", r1(t.exec_p50_us)},
-                       {"exec_p99_us", r1(t.exec_p99_us)},
-                       {"exec_max_us", r1(t.exec_max_us)},
-                       {"jitter_p50_us", r1(t.jitter_p50_us)},
-                       {"jitter_p99_us", r1(t.jitter_p99_us)},
-                       {"jitter_max_us", r1(t.jitter_max_us)},
-                       {"jobs", t.jobs},
-                       {"deadline_misses", t.deadline_misses},
-                       {"utilisation", t.utilisation},
-                       {"rt", t.rt_granted},
-                       {"alive", t.alive}});
-    }
-    hosts.push_back({{"host", name},
-                     {"rt", h.rt},
-                     {"cpu_utilisation", h.cpu_utilisation},
-                     {"cpu_bound", h.cpu_bound},
-                     {"tasks", tasks},
-                     {"events", h.events}});
-  }
-  j["sched"] = hosts;
-
-  json rates = json::object();
-  for (const auto& [channel, hz] : rates_hz_) rates[channel] = r1(hz);
-  j["rates_hz"] = rates;
-
   j["latency"] = {{"commands", latencies_ms_.size()},
                   {"p50_ms", r1(percentile(latencies_ms_, 0.5))},
                   {"p99_ms", r1(percentile(latencies_ms_, 0.99))},
@@ -244,7 +196,6 @@ nlohmann::json DisplayState::to_json(const Controls& controls, int64_t now_us) c
                    {"scan", scan_name(controls.vision.scan)},
                    {"threshold", controls.vision.threshold},
                    {"planner", controls.planner},
-                   {"estop", controls.estop},
                    {"sheep", controls.sim.sheep},
                    {"box",
                     {{"visible", controls.box.visible},

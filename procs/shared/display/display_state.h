@@ -75,24 +75,6 @@ struct TruthView {
   double sim_time_s = 0.0;
 };
 
-struct TaskRow {
-  std::string process, task, policy;
-  int cpu = -1, priority = 0;
-  bool periodic = false, rt_granted = false, alive = false;
-  int64_t period_us = 0, deadline_us = 0, jobs = 0, deadline_misses = 0;
-  double exec_p50_us = 0, exec_p99_us = 0, exec_max_us = 0;
-  double jitter_p50_us = 0, jitter_p99_us = 0, jitter_max_us = 0;
-  double utilisation = 0;
-};
-
-struct HostSched {
-  std::string host;
-  bool rt = false;
-  std::vector<double> cpu_utilisation, cpu_bound;
-  std::vector<TaskRow> tasks;
-  std::vector<std::string> events;
-};
-
 struct DisplayOptions {
   double path_horizon_s = 3.0;  // predicted paths: velocity x this
   int path_steps = 6;
@@ -110,12 +92,10 @@ class DisplayState {
   void on_planner(PlannerView planner, int64_t now_us);
   void on_arm(ArmView arm, int64_t now_us);
   void on_truth(TruthView truth, int64_t now_us);
-  void on_sched(HostSched host);
   // One arm command: frame-to-command latency = sent_utime - source_frame_utime
   // (both wall clock, us). A (sender, seq) seen before (a resend) is not counted.
   void on_arm_command(const std::string& sender, int64_t seq, int64_t source_frame_utime,
                       int64_t sent_utime);
-  void set_rates(std::map<std::string, double> rates_hz) { rates_hz_ = std::move(rates_hz); }
 
   // The page's whole state. `controls` = the current desired state.
   nlohmann::json to_json(const Controls& controls, int64_t now_us) const;
@@ -140,11 +120,9 @@ class DisplayState {
   int64_t arm_us_ = 0;
   std::optional<TruthView> truth_;
   int64_t truth_us_ = 0;
-  std::map<std::string, HostSched> sched_;
   std::map<std::string, int64_t> last_cmd_seq_;  // sender -> newest arm_cmd_t.seq counted
   std::vector<double> latencies_ms_;             // ring of the newest frame-to-command latencies
   size_t latency_next_ = 0;
-  std::map<std::string, double> rates_hz_;
 };
 
 }  // namespace ephor::display

@@ -1,6 +1,8 @@
 #pragma once
-// The page's files (procs/shared/display/web/), embedded at build time by
-// embed_assets.cmake so the binary needs no files at run time.
+// A display page's files, embedded at build time by embed_assets.cmake (see
+// display_page.cmake) so a display binary needs no files at run time. Each
+// page's generated source defines find_web_asset() in the page's namespace;
+// this header declares the shepherding page's (web/ here).
 
 #include <cstddef>
 #include <string_view>
@@ -14,7 +16,7 @@ struct WebAsset {
   size_t size;  // bytes (data has one extra 0 byte after them)
 };
 
-// The asset served at `path`, or nullptr.
+// The shepherding page's asset served at `path`, or nullptr.
 const WebAsset* find_web_asset(std::string_view path);
 
 }  // namespace ephor::display
