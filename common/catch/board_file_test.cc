@@ -7,8 +7,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "common/config/text_proto.h"
 #include "common/catch/camera_file.h"
+#include "common/config/text_proto.h"
 
 namespace ephor::catching {
 namespace {
@@ -190,6 +190,16 @@ TEST(CameraFileTest, WriterRoundTrips) {
   EXPECT_EQ(back.distortion, c.distortion);
   c.fx = 0.0;
   EXPECT_THROW(save_camera_file(c, ::testing::TempDir() + "/never.pbtxt"), ConfigError);
+}
+
+TEST(CameraFileTest, FramesOfAnotherSizeAreNamedWithBothSizes) {
+  const CameraIntrinsics c = load_camera_file(kTestdata + "/camera.pbtxt");
+  EXPECT_EQ(frame_size_problem(c, "cam.pbtxt", 640, 480, "frames of clip.avi"), "");
+  EXPECT_EQ(frame_size_problem(c, "cam.pbtxt", 800, 600, "frames of clip.avi"),
+            "frames of clip.avi are 800 x 600 px but the camera file cam.pbtxt says 640 x 480 px");
+  // A transposed (portrait) recording is not the same camera either.
+  EXPECT_THAT(frame_size_problem(c, "cam.pbtxt", 480, 640, "frames"),
+              AllOf(HasSubstr("480 x 640"), HasSubstr("640 x 480")));
 }
 
 }  // namespace

@@ -6,8 +6,8 @@
 
 #include <google/protobuf/text_format.h>
 
-#include "common/config/text_proto.h"
 #include "common/catch/camera.pb.h"
+#include "common/config/text_proto.h"
 
 namespace ephor::catching {
 namespace {
@@ -111,6 +111,14 @@ void save_camera_file(const CameraIntrinsics& camera, const std::string& path,
   out << text;
   out.close();
   if (!out) throw ConfigError("camera file " + path + ": write failed");
+}
+
+std::string frame_size_problem(const CameraIntrinsics& camera, const std::string& camera_path,
+                               int width, int height, const std::string& frames_name) {
+  if (width == camera.width && height == camera.height) return "";
+  return frames_name + " are " + std::to_string(width) + " x " + std::to_string(height) +
+         " px but the camera file " + camera_path + " says " + std::to_string(camera.width) +
+         " x " + std::to_string(camera.height) + " px";
 }
 
 }  // namespace ephor::catching

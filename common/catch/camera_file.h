@@ -28,4 +28,12 @@ std::string camera_to_text(const CameraIntrinsics& camera, const std::string& he
 void save_camera_file(const CameraIntrinsics& camera, const std::string& path,
                       const std::string& header_comment = "");
 
+// Whether frames of `width` x `height` px fit the camera file `camera` was
+// read from (`camera_path`): "" when they do, else a message naming both
+// sizes, e.g. "frames of clip.avi are 800 x 600 px but the camera file
+// cam.pbtxt says 640 x 480 px". The vision process and the offline tracker
+// refuse such frames: intrinsics of another size would misplace every ray.
+std::string frame_size_problem(const CameraIntrinsics& camera, const std::string& camera_path,
+                               int width, int height, const std::string& frames_name);
+
 }  // namespace ephor::catching
