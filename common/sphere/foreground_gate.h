@@ -20,13 +20,15 @@ class ForegroundGate {
   explicit ForegroundGate(const ForegroundGateConfig& config) : config_(config) {}
 
   // Sets the depth gate's centre from the window's returns. Returns the
-  // number of returns closer than the background threshold.
+  // number of returns closer than the background threshold (estimated from
+  // a sample of the pulses; 0 only when there is none).
   int learn(const Window& window);
 
   bool is_foreground(const Pulse& p) const {
-    // A miss (NaN) fails both comparisons.
-    return p.range_m < config_.background_range_m &&
-           std::abs(p.range_m - median_range_m_) <= config_.depth_gate_m;
+    // A miss (NaN) fails both comparisons. `&`, not `&&`: no branch.
+    return static_cast<bool>(
+        static_cast<int>(p.range_m < config_.background_range_m) &
+        static_cast<int>(std::abs(p.range_m - median_range_m_) <= config_.depth_gate_m));
   }
 
   double median_range_m() const { return median_range_m_; }

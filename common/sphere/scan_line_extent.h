@@ -29,6 +29,8 @@ struct ScanLineExtentConfig {
   int min_points_per_line = 2;
   int min_lines = 3;
   int iterations = 1;  // s_1 is the paper's choice ("adequate without further iteration")
+  // More iterations only while they move the slice radius l by this much (m).
+  double iteration_tolerance_m = 1e-4;
 
   // Beyond the paper.
   // The first and last hits lie on average half a pulse spacing inside the
@@ -49,6 +51,12 @@ struct ScanLineExtentConfig {
   // Sign of eq. 28-29 from a fit of the chord profile over each pass instead
   // of the single longest line (which noise picks at random near the centre).
   bool profile_sign = false;
+  // The alignment slope of eq. 12-13 for the whole window, per scan
+  // direction (the scanner's elevation rate over its azimuth rate: the
+  // same for every line), from the lines' end points, instead of each line's
+  // own fit over its few hits (3-4 at 20 m, where encoder noise makes the
+  // per-line slope, and so the rotation, noisy).
+  bool window_slope = false;
   double range_sigma_m = 0.02;  // for the weights
   double angle_sigma_rad = 0.78e-3;
 

@@ -101,6 +101,9 @@ std::vector<Method> methods() {
   sle("sle+edge+geometry", s);
   s.weighted_regression = true;
   sle("sle+edge+geometry+weights", s);
+  ScanLineExtentConfig per_line_slope = ScanLineExtentConfig::improved();
+  per_line_slope.window_slope = false;
+  sle("sle-improved-per-line-slope", per_line_slope);
   sle("sle-improved", ScanLineExtentConfig::improved());
   fit("fit-paper", SphereFitterConfig::paper());
   SphereFitterConfig f = SphereFitterConfig::paper();
