@@ -58,4 +58,23 @@ BENCHMARK_CAPTURE(BM_ScanLineExtent, improved, true)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SphereFitter, improved, true)->Arg(1)->Arg(20)->Unit(benchmark::kMicrosecond);
 
+namespace {
+
+// The floor under Scan Line Extent: learning the gate, the pulse step and
+// the slopes, and gating every pulse, with every line then refused.
+void BM_ScanLineExtentGatingOnly(benchmark::State& state) {
+  const Window w = paper_window(static_cast<double>(state.range(0)));
+  ScanLineExtentConfig c = ScanLineExtentConfig::improved();
+  c.min_points_per_line = 100000;
+  const ScanLineExtent sle(c);
+  for (auto _ : state) {
+    Estimate e = sle.locate(w);
+    benchmark::DoNotOptimize(e);
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_ScanLineExtentGatingOnly)->Arg(20)->Unit(benchmark::kMicrosecond);
+
 BENCHMARK_MAIN();
