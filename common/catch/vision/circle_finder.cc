@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "common/catch/board_file.h"
@@ -27,6 +28,21 @@ std::string window_text(const cv::Rect& r) {
   std::ostringstream s;
   s << "(" << r.x << "," << r.y << ")-(" << r.x + r.width - 1 << "," << r.y + r.height - 1 << ")";
   return s.str();
+}
+
+// The board's grey level: the image's 90th percentile (the board is the
+// bright part of the scene).
+double bright_level(const cv::Mat& frame) {
+  int hist[256] = {0};
+  for (int y = 0; y < frame.rows; ++y)
+    for (int x = 0; x < frame.cols; ++x) ++hist[frame.at<uint8_t>(y, x)];
+  const double want = 0.9 * frame.rows * frame.cols;
+  double seen = 0.0;
+  for (int g = 0; g < 256; ++g) {
+    seen += hist[g];
+    if (seen >= want) return g;
+  }
+  return 255.0;
 }
 
 void check_frame(const cv::Mat& frame) {
@@ -67,21 +83,7 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
   // the ring around a true circle is board-bright. Dark texture off the board
   // (the lab around it) is surrounded by dark. Board level: the image's 90th
   // percentile of grey.
-  double board_grey = 0.0;
-  {
-    int hist[256] = {0};
-    for (int y = 0; y < frame.rows; ++y)
-      for (int x = 0; x < frame.cols; ++x) ++hist[frame.at<uint8_t>(y, x)];
-    const double want = 0.9 * frame.rows * frame.cols;
-    double seen = 0.0;
-    for (int g = 0; g < 256; ++g) {
-      seen += hist[g];
-      if (seen >= want) {
-        board_grey = g;
-        break;
-      }
-    }
-  }
+  const double board_grey = bright_level(frame);
 
   std::vector<Blob> blobs;
   const double min_area = kPi / 4.0 * options_.min_diameter_px * options_.min_diameter_px;
@@ -160,7 +162,145 @@ std::vector<CircleFinder::Blob> CircleFinder::dark_round_blobs(const cv::Mat& fr
   return blobs;
 }
 
-CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
+// Three round dark blobs: which circle is missing, and where the other three
+// say it is. Each choice of the missing circle and labelling of the three
+// blobs is solved by P3P (up to four poses); poses that show the board's
+// back or put a circle behind the camera are dropped; the rest are scored by
+// how well the circles' projected areas match the blobs' (the centroids fit
+// exactly with three points); poses that lay the board over dark parts of
+// the image are dropped too. The missing circle is named only when the best
+// choice beats every choice of another missing circle by the ambiguity margin.
+std::string CircleFinder::missing_circle(const std::vector<Blob>& blobs,
+                                         const cv::Mat& frame) const {
+  const std::string searched = "looked for dark round blobs in the whole " +
+                               std::to_string(camera_.width) + " x " +
+                               std::to_string(camera_.height) + " image and found 3";
+  cv::Matx33d k(camera_.fx, 0.0, camera_.cx, 0.0, camera_.fy, camera_.cy, 0.0, 0.0, 1.0);
+  // The board, wholly in view (the paper's one constraint on the camera), is
+  // bright where it is not painted: a pose that lays it over the dark lab is
+  // wrong. Sample points on a grid of the board, clear of the circles.
+  const double bright = 0.6 * bright_level(frame);
+  std::vector<Eigen::Vector3d> samples;
+  for (int i = 1; i < 8; ++i)
+    for (int j = 1; j < 12; ++j) {
+      const Eigen::Vector3d p(board_.width_mm * i / 8.0, board_.height_mm * j / 12.0, 0.0);
+      bool clear = true;
+      for (const BoardCircle& c : board_.circles)
+        if (std::hypot(p.x() - c.x_mm, p.y() - c.y_mm) < c.diameter_mm) clear = false;
+      if (clear) samples.push_back(p);
+    }
+  auto board_seen_bright = [&](const Pose& pose) {
+    int dark = 0;
+    for (const Eigen::Vector3d& p : samples) {
+      const Eigen::Vector2d px = pose_.project(pose, p);
+      const int u = static_cast<int>(std::lround(px.x())),
+                v = static_cast<int>(std::lround(px.y()));
+      if (!px.allFinite() || u < 0 || v < 0 || u >= frame.cols || v >= frame.rows ||
+          frame.at<uint8_t>(v, u) < bright)
+        ++dark;
+    }
+    // Pegs and shadows darken a few samples.
+    return dark <= static_cast<int>(samples.size()) / 5;
+  };
+  std::array<double, 4> best_per_missing;
+  best_per_missing.fill(kInf);
+  std::array<Eigen::Vector2d, 4> where{};
+  for (int missing = 0; missing < 4; ++missing) {
+    std::array<int, 3> present{};
+    for (int i = 0, j = 0; i < 4; ++i)
+      if (i != missing) present[static_cast<size_t>(j++)] = i;
+    std::vector<cv::Point3d> object;
+    for (int i : present) {
+      const BoardCircle& c = board_.circles[static_cast<size_t>(i)];
+      object.emplace_back(c.x_mm, c.y_mm, 0.0);
+    }
+    std::array<int, 3> perm{0, 1, 2};
+    do {
+      std::vector<cv::Point2d> image;
+      for (int b : perm) {
+        const Eigen::Vector2d& c = blobs[static_cast<size_t>(b)].centroid;
+        image.emplace_back(c.x(), c.y());
+      }
+      std::vector<cv::Mat> rvecs, tvecs;
+      try {
+        cv::solveP3P(object, image, k, camera_.distortion, rvecs, tvecs, cv::SOLVEPNP_P3P);
+      } catch (const cv::Exception&) {
+        continue;  // degenerate (collinear) blobs
+      }
+      for (size_t s = 0; s < rvecs.size(); ++s) {
+        cv::Matx33d r;
+        cv::Rodrigues(rvecs[s], r);
+        Pose pose = Pose::Identity();
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) pose.linear()(i, j) = r(i, j);
+          pose.translation()(i) = tvecs[s].at<double>(i);
+        }
+        // The face is seen (the camera on +z of B) and every circle is in front.
+        const Eigen::Vector3d camera_in_b = -pose.linear().transpose() * pose.translation();
+        if (!(camera_in_b.z() > 0.0)) continue;
+        if (!board_seen_bright(pose)) continue;
+        double score = 0.0;
+        for (size_t i = 0; i < 3 && std::isfinite(score); ++i) {
+          const ProjectedCircle pc = pose_.project_circle(pose, present[i]);
+          if (!(pc.area_px > 0.0)) {
+            score = kInf;
+            break;
+          }
+          const double a = std::log(blobs[static_cast<size_t>(perm[i])].area / pc.area_px) /
+                           options_.area_sigma_log;
+          score += a * a;
+        }
+        if (!((pose * Eigen::Vector3d(board_.circles[static_cast<size_t>(missing)].x_mm,
+                                      board_.circles[static_cast<size_t>(missing)].y_mm, 0.0))
+                  .z() > 0.0))
+          score = kInf;
+        if (score < best_per_missing[static_cast<size_t>(missing)]) {
+          best_per_missing[static_cast<size_t>(missing)] = score;
+          where[static_cast<size_t>(missing)] = pose_.project(
+              pose, Eigen::Vector3d(board_.circles[static_cast<size_t>(missing)].x_mm,
+                                    board_.circles[static_cast<size_t>(missing)].y_mm, 0.0));
+        }
+      }
+    } while (std::next_permutation(perm.begin(), perm.end()));
+  }
+  std::array<int, 4> order{0, 1, 2, 3};
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return best_per_missing[static_cast<size_t>(a)] < best_per_missing[static_cast<size_t>(b)];
+  });
+  const double best = best_per_missing[static_cast<size_t>(order[0])];
+  const double next = best_per_missing[static_cast<size_t>(order[1])];
+  auto at = [&](int i) {
+    std::ostringstream t;
+    t.setf(std::ios::fixed);
+    t.precision(0);
+    t << "(" << where[static_cast<size_t>(i)].x() << ", " << where[static_cast<size_t>(i)].y()
+      << ") px";
+    return t.str();
+  };
+  if (!std::isfinite(best) || next - best < options_.ambiguity_margin) {
+    std::string candidates;
+    for (int i : order)
+      if (best_per_missing[static_cast<size_t>(i)] - best < options_.ambiguity_margin)
+        candidates += std::string(candidates.empty() ? "" : " or ") + "the " + circle_name(i) +
+                      " at " + at(i);
+    return "a circle not found (" +
+           (candidates.empty() ? std::string("which one cannot be told") : candidates) +
+           "): " + searched + ", need 4";
+  }
+  const int m = order[0];
+  const Eigen::Vector2d& p = where[static_cast<size_t>(m)];
+  const bool inside = p.x() >= -0.5 && p.y() >= -0.5 && p.x() <= camera_.width - 0.5 &&
+                      p.y() <= camera_.height - 0.5;
+  std::ostringstream msg;
+  msg.setf(std::ios::fixed);
+  msg.precision(0);
+  msg << "circle " << circle_name(m) << " not found: " << searched
+      << "; the other three put it at (" << p.x() << ", " << p.y() << ") px"
+      << (inside ? ", in the image (covered, or not dark enough?)" : ", outside the image");
+  return msg.str();
+}
+
+CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs, const cv::Mat& frame) const {
   CircleFinderResult out;
   out.blobs_seen = static_cast<int>(blobs.size());
   if (options_.windows) {
@@ -183,9 +323,15 @@ CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
     out.runner_up_score = kInf;
     return out;
   }
+  if (blobs.size() == 3) {
+    out.problem = missing_circle(blobs, frame);
+    return out;
+  }
   if (blobs.size() < 4) {
     out.problem = "found " + std::to_string(blobs.size()) + " dark round blob" +
-                  (blobs.size() == 1 ? "" : "s") + ", need 4";
+                  (blobs.size() == 1 ? "" : "s") + " in the whole " +
+                  std::to_string(camera_.width) + " x " + std::to_string(camera_.height) +
+                  " image, need 4";
     return out;
   }
   // The largest eight at most: 70 sets of four, 24 labellings each.
@@ -254,7 +400,7 @@ CircleFinderResult CircleFinder::label(const std::vector<Blob>& blobs) const {
 
 CircleFinderResult CircleFinder::find(const cv::Mat& frame) const {
   check_frame(frame);
-  CircleFinderResult r = label(dark_round_blobs(frame));
+  CircleFinderResult r = label(dark_round_blobs(frame), frame);
   r.frames_used = r.found ? 1 : 0;
   return r;
 }

@@ -20,7 +20,12 @@
 // next-best labelling score alike, the finder says it cannot tell them apart.
 //
 // Expected failures (no circles, covered circle, ambiguity) are a status with
-// a message; bad arguments throw std::invalid_argument. Immutable; safe to
+// a message that says where the circles were looked for: a window named per
+// circle, or the whole image. With three blobs in the whole image, the
+// missing circle is named with where the other three put it (P3P on each
+// choice, scored by the blobs' sizes and a bright board around them), or
+// the two or more it cannot be told from are. Bad arguments throw
+// std::invalid_argument. Immutable; safe to
 // share between threads.
 
 #include <array>
@@ -88,7 +93,9 @@ class CircleFinder {
     double area = 0.0;
   };
   std::vector<Blob> dark_round_blobs(const cv::Mat& frame) const;
-  CircleFinderResult label(const std::vector<Blob>& blobs) const;
+  CircleFinderResult label(const std::vector<Blob>& blobs, const cv::Mat& frame) const;
+  // With three blobs: which circle is missing and where, or that it cannot be told.
+  std::string missing_circle(const std::vector<Blob>& blobs, const cv::Mat& frame) const;
 
   BoardSpec board_;
   CameraIntrinsics camera_;

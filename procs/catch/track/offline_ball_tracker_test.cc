@@ -41,7 +41,8 @@ TEST(OfflineBallTrackerTest, TracksOnlyAfterThePoseIsFoundAndOnlyFramesOfTheCame
   covered.covered_circles = {1};
   const TrackerInitialisation bad = tracker.initialise(testing::noisy_frames(covered, 3, 2.0, 5));
   EXPECT_FALSE(bad.ok);
-  EXPECT_THAT(bad.problem, HasSubstr("found 3 dark round blobs"));
+  EXPECT_THAT(bad.problem, HasSubstr("top-right"));
+  EXPECT_THAT(bad.problem, HasSubstr("in the whole 640 x 480 image and found 3"));
   EXPECT_FALSE(tracker.initialised());
 
   // Uncovered: the pose, then frames are taken from frame 0.
