@@ -135,6 +135,8 @@ TEST_F(TrackCliTest, CameraPoseAndBallPositionsAgreeWithTheTruth) {
   }
   const double angle_deg =
       Eigen::AngleAxisd(r_est * truth.linear().transpose()).angle() * 180.0 / kPi;
+  std::cerr << "camera pose error " << (t_est - truth.translation()).norm() << " mm, " << angle_deg
+            << " deg\n";
   EXPECT_LT(angle_deg, 0.1);
   EXPECT_LT((t_est - truth.translation()).norm(), 1.0)
       << "t " << t_est.transpose() << " truth " << truth.translation().transpose();
