@@ -270,6 +270,19 @@ void DisplayServer::add_routes() {
   });
 }
 
+void DisplayServer::add_json_route(const std::string& path, StateBuilder builder) {
+  http_->server.Get(
+      path, [this, builder = std::move(builder)](const httplib::Request&, httplib::Response& res) {
+        last_request_mono_ns_ = mono_ns();
+        nlohmann::json j;
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          j = builder(wall_us());
+        }
+        set_json(res, j);
+      });
+}
+
 void DisplayServer::run(const std::string& page_name) {
   auto& svr = http_->server;
   if (!svr.bind_to_port(options_.http_address.c_str(), options_.http_port)) {

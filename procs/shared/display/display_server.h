@@ -103,6 +103,10 @@ class DisplayServer {
   void set_state_builder(StateBuilder builder) { state_builder_ = std::move(builder); }
   void set_command_handler(CommandHandler handler) { command_handler_ = std::move(handler); }
   void set_frame_hook(FrameHook hook) { frame_hook_ = std::move(hook); }
+  // GET `path` (e.g. "/api/scan") answers `builder`'s JSON, built with the
+  // lock held: for data a page fetches less often than its state. Call
+  // before run().
+  void add_json_route(const std::string& path, StateBuilder builder);
 
   // The page's STOP is held. Call with the lock held (from a builder or handler).
   bool estop_held() const { return estop_.held(); }

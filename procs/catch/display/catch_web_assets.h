@@ -1,0 +1,14 @@
+#pragma once
+// The catching page's files (web/ here and the shared ephor_page.js/.css),
+// embedded at build time (procs/shared/display/display_page.cmake).
+
+#include <string_view>
+
+#include "procs/shared/display/web_assets.h"
+
+namespace ephor::catch_display {
+
+// The asset served at `path`, or nullptr.
+const display::WebAsset* find_web_asset(std::string_view path);
+
+}  // namespace ephor::catch_display
