@@ -13,6 +13,7 @@
 //   serves      GET /api/state (no raster points), GET /api/scan (the raster),
 //               /api/debug, /api/rates (DisplayServer)
 
+#include <cmath>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -114,6 +115,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 100.0));
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
+  if (!std::isfinite(options.capture_distance_m)) {  // CLI::Range lets NaN through
+    spdlog::error("--capture-m must be a number of metres in 0.1..100");
+    return 1;
+  }
 
   try {
     Bus bus(args.lcm_url, args.name);
