@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 
 #include <Eigen/Dense>
@@ -140,8 +141,8 @@ struct LineScratch {
 // `known_slope`: the window's alignment slope for this line, NaN to fit the
 // line's own (the paper's).
 bool extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line, size_t index,
-               const std::vector<size_t>& hits, double delta, double known_slope,
-               Rejections& rejected, LineScratch& scratch, LineExtent& e) {
+               std::span<const size_t> hits, double delta, double known_slope, Rejections& rejected,
+               LineScratch& scratch, LineExtent& e) {
   if (hits.empty()) return false;
   // Section 3: a line whose edge of the sphere cannot be found (the sphere
   // cut by the frame's side, or the line cut by the window) is useless.
@@ -387,19 +388,22 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
   pass_of.reserve(window.lines.size());
   int current = -1;
   bool in_pass = false;
-  std::vector<size_t> hits;
+  // Foreground pulse indices of the current line; sized once to the longest
+  // line (a resize per line zero-filled it).
+  size_t longest = 0;
+  for (const ScanLine& l : window.lines) longest = std::max(longest, l.pulses.size());
+  std::vector<size_t> hit_buffer(longest);
   LineExtent line;
   for (size_t j = 0; j < window.lines.size(); ++j) {
     // Branch-free: every pulse's index is written, the count advances only
     // for the foreground (the sphere's edges would mispredict twice a line).
     const std::vector<Pulse>& pulses = window.lines[j].pulses;
-    hits.resize(pulses.size());
     size_t n = 0;
     for (size_t i = 0; i < pulses.size(); ++i) {
-      hits[n] = i;
+      hit_buffer[n] = i;
       n += gate.is_foreground(pulses[i]) ? 1 : 0;
     }
-    hits.resize(n);
+    const std::span<const size_t> hits(hit_buffer.data(), n);
     if (hits.empty()) {
       in_pass = false;
       continue;
