@@ -37,6 +37,12 @@ function(ephor_executable name)
   target_include_directories(${name} PRIVATE ${CMAKE_SOURCE_DIR})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS})
   ephor_target_defaults(${name})
+  # Every program a person can start, for the bad-input walk (tests/badinput);
+  # Google Benchmark binaries take the library's flags and are listed apart.
+  if("benchmark::benchmark" IN_LIST ARG_DEPS)
+    set_property(GLOBAL APPEND PROPERTY EPHOR_GBENCH_EXECUTABLES ${name})
+  endif()
+  set_property(GLOBAL APPEND PROPERTY EPHOR_EXECUTABLES ${name})
 endfunction()
 
 # ephor_test(NAME SOURCES x_test.cc DEPS lib [NETNS] [LABELS l] [TIMEOUT s])

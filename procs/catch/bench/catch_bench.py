@@ -69,6 +69,8 @@ def main():
     ap.add_argument("--balls", type=int, default=100, help="balls per seed (default 100)")
     ap.add_argument("--json", help="write the figures here")
     ap.add_argument("--no-system", action="store_true", help="only the component benchmarks")
+    # A bad flag: one line naming it and status 2, without the usage block (issue 18).
+    ap.error = lambda message: ap.exit(2, f"{ap.prog}: error: {message}\n")
     args = ap.parse_args()
     if args.seeds < 1 or args.balls < 1:
         ap.error("--seeds and --balls must be >= 1")

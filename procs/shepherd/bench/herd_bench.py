@@ -94,6 +94,8 @@ def main():
                     help="run on the host's network instead of a private namespace per run (needs no "
                          "root, but then no other LCM run may be going on at the same time)")
     ap.add_argument("--json", help="write the cells here")
+    # A bad flag: one line naming it and status 2, without the usage block (issue 18).
+    ap.error = lambda message: ap.exit(2, f"{ap.prog}: error: {message}\n")
     args = ap.parse_args()
     planners = [p for p in args.planners.split(",") if p]
     for p in planners:
