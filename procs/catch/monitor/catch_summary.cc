@@ -13,7 +13,36 @@ nlohmann::json percentiles(const RollingStats& s) {
   return {{"p50", s.percentile(50)}, {"p99", s.percentile(99)}, {"max", s.max()}, {"n", s.size()}};
 }
 
+// The cup's tolerance: inner radius 50 mm minus the ball's radius 20 mm.
+constexpr double kToleranceMm = 30.0;
+// Below this lead the arm cannot cover the ~100-200 mm of a typical miss
+// from rest (1 rad/s, 2 rad/s^2 on joints 1-3: ~0.5 s for 100 mm).
+constexpr double kLateLeadS = 0.5;
+
 }  // namespace
+
+void classify_miss(const BallTrack& track, double tolerance_mm, double late_lead_s,
+                   BallOutcome& outcome) {
+  outcome.first_tracked_y_mm = track.first_tracked_y_mm;
+  if (track.predictions.empty() || !std::isfinite(track.true_exit_x_b_mm)) {
+    outcome.kind = "not tracked";
+    return;
+  }
+  const double last_error = std::abs(track.predictions.back().second - track.true_exit_x_b_mm);
+  outcome.prediction_error_mm = last_error;
+  if (last_error > tolerance_mm) {
+    outcome.kind = "wrong place";
+    return;
+  }
+  // The first prediction from which every later one is within tolerance.
+  int64_t settled = track.predictions.back().first;
+  for (auto it = track.predictions.rbegin(); it != track.predictions.rend(); ++it) {
+    if (std::abs(it->second - track.true_exit_x_b_mm) > tolerance_mm) break;
+    settled = it->first;
+  }
+  outcome.lead_s = static_cast<double>(track.true_exit_utime - settled) / 1e6;
+  outcome.kind = outcome.lead_s < late_lead_s ? "prediction late" : "arm late";
+}
 
 CatchSummary::CatchSummary(int64_t seed) : seed_(seed) {}
 
@@ -29,7 +58,17 @@ void CatchSummary::on_truth(int64_t utime, bool rolling, const Eigen::Vector2d& 
   }
   if (last_ball >= 0 && last_ball != last_ball_) {
     last_ball_ = last_ball;
-    outcomes_.push_back({last_ball, last_caught, last_oracle_reachable, last_reason});
+    BallOutcome o;
+    o.ball = last_ball;
+    o.caught = last_caught;
+    o.oracle_reachable = last_oracle_reachable;
+    o.reason = last_reason;
+    if (!last_caught) {
+      const auto it = tracks_.find(last_ball);
+      classify_miss(it != tracks_.end() ? it->second : BallTrack{}, kToleranceMm, kLateLeadS, o);
+    }
+    outcomes_.push_back(o);
+    tracks_.erase(tracks_.begin(), tracks_.upper_bound(last_ball));
   }
 }
 
@@ -43,6 +82,30 @@ void CatchSummary::on_world(int64_t capture_utime, double latency_ms,
   if (!position_b_mm) return;
   const auto it = truth_by_utime_.find(capture_utime);
   if (it != truth_by_utime_.end()) position_error_mm_.add((*position_b_mm - it->second).norm());
+}
+
+void CatchSummary::on_ball_truth(int64_t utime, int ball, bool rolling, double ball_y_b_mm,
+                                 double true_exit_x_b_mm, int64_t true_exit_utime) {
+  if (!rolling || ball < 0 || ball <= last_ball_) return;
+  BallTrack& t = tracks_[ball];
+  t.ball = ball;
+  t.true_exit_x_b_mm = true_exit_x_b_mm;
+  t.true_exit_utime = true_exit_utime;
+  rolling_ball_by_utime_[utime] = {ball, ball_y_b_mm};
+  while (rolling_ball_by_utime_.size() > 120)
+    rolling_ball_by_utime_.erase(rolling_ball_by_utime_.begin());
+}
+
+void CatchSummary::on_prediction(int64_t capture_utime, bool tracking, bool has_prediction,
+                                 double exit_x_b_mm) {
+  const auto it = rolling_ball_by_utime_.find(capture_utime);
+  if (it == rolling_ball_by_utime_.end()) return;  // no ball rolled in that frame
+  const auto t = tracks_.find(it->second.first);
+  if (t == tracks_.end()) return;
+  if (tracking && !std::isfinite(t->second.first_tracked_y_mm))
+    t->second.first_tracked_y_mm = it->second.second;
+  if (has_prediction && std::isfinite(exit_x_b_mm))
+    t->second.predictions.emplace_back(capture_utime, exit_x_b_mm);
 }
 
 void CatchSummary::on_board_pose(const Eigen::Isometry3d& board_to_camera) {
@@ -86,14 +149,26 @@ nlohmann::json CatchSummary::to_json() const {
   j["caught"] = caught();
   int reachable = 0, caught_reachable = 0;
   nlohmann::json missed = nlohmann::json::array();
+  std::map<std::string, int> kinds, reachable_kinds;
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   for (const auto& o : outcomes_) {
     reachable += o.oracle_reachable ? 1 : 0;
     caught_reachable += (o.oracle_reachable && o.caught) ? 1 : 0;
-    if (!o.caught)
-      missed.push_back(
-          {{"ball", o.ball}, {"reason", o.reason}, {"oracle_reachable", o.oracle_reachable}});
+    if (!o.caught) {
+      missed.push_back({{"ball", o.ball},
+                        {"reason", o.reason},
+                        {"oracle_reachable", o.oracle_reachable},
+                        {"kind", o.kind},
+                        {"prediction_error_mm", number(o.prediction_error_mm)},
+                        {"lead_s", number(o.lead_s)},
+                        {"first_tracked_y_mm", number(o.first_tracked_y_mm)}});
+      ++kinds[o.kind];
+      if (o.oracle_reachable) ++reachable_kinds[o.kind];
+    }
   }
   j["missed"] = missed;
+  j["missed_kinds"] = kinds;
+  j["missed_kinds_oracle_reachable"] = reachable_kinds;
   j["oracle_reachable"] = reachable;
   j["caught_of_oracle_reachable"] = caught_reachable;
   j["update_ms"] = percentiles(update_ms_);

@@ -7,6 +7,7 @@
 // of every frame, every world-model output, the camera pose from the
 // circles, the schedulers' status. Times in us (wall clock), lengths in mm.
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -26,7 +27,38 @@ struct BallOutcome {
   bool caught = false;
   bool oracle_reachable = false;
   std::string reason;
+  // Why a missed ball was missed, from the world model's predictions of its
+  // exit against the simulator's (see classify_miss): "not tracked",
+  // "wrong place", "prediction late" or "arm late"; "" when caught.
+  std::string kind;
+  double prediction_error_mm = std::nan("");  // the last prediction's exit x error, B
+  double lead_s = std::nan("");              // how long before the true exit the prediction settled
+  double first_tracked_y_mm = std::nan("");  // where on the board the track began (truth, B)
 };
+
+// What the monitor saw of one ball while it rolled: the simulator's exit
+// (simulated ahead at release) and the world model's predictions of it.
+struct BallTrack {
+  int ball = -1;
+  double true_exit_x_b_mm = std::nan("");
+  int64_t true_exit_utime = 0;
+  double first_tracked_y_mm = std::nan("");
+  // (capture utime, predicted exit x in B) of every output with a prediction
+  // made while the ball rolled.
+  std::vector<std::pair<int64_t, double>> predictions;
+};
+
+// The loss classes of a missed ball, judged on the exit x (B, mm) within
+// tolerance_mm (the cup's: inner radius minus the ball's radius):
+//   not tracked      no prediction while the ball rolled
+//   wrong place      the last prediction before the exit was off by more
+//   prediction late  it settled (every later prediction within tolerance)
+//                    less than late_lead_s before the exit: too late for
+//                    the arm to get there from the ready point
+//   arm late         it settled earlier: the cup could have been there
+// Fills kind, prediction_error_mm, lead_s, first_tracked_y_mm of `outcome`.
+void classify_miss(const BallTrack& track, double tolerance_mm, double late_lead_s,
+                   BallOutcome& outcome);
 
 class CatchSummary {
  public:
@@ -41,6 +73,12 @@ class CatchSummary {
   // filtered ball position on the board when tracking.
   void on_world(int64_t capture_utime, double latency_ms,
                 const std::optional<Eigen::Vector2d>& position_b_mm);
+  // The ball of one truth frame (index, on the board or not, its true exit)
+  // and the world model's prediction of the same capture time (has_prediction
+  // false when none): feeds the per-ball miss classification.
+  void on_ball_truth(int64_t utime, int ball, bool rolling, double ball_y_b_mm,
+                     double true_exit_x_b_mm, int64_t true_exit_utime);
+  void on_prediction(int64_t capture_utime, bool tracking, bool has_prediction, double exit_x_b_mm);
   void on_board_pose(const Eigen::Isometry3d& board_to_camera);
   void on_sched_status(const std::string& host, bool rt, int64_t deadline_misses);
   // One task's execution time (thread CPU time, us) as its scheduler reports
@@ -56,6 +94,8 @@ class CatchSummary {
  private:
   int64_t seed_;
   std::vector<BallOutcome> outcomes_;
+  std::map<int, BallTrack> tracks_;                                  // by truth ball index
+  std::map<int64_t, std::pair<int, double>> rolling_ball_by_utime_;  // utime -> (ball, y_B)
   int last_ball_ = -1;
   // Truth of the newest frames by capture time, to score world outputs.
   std::map<int64_t, Eigen::Vector2d> truth_by_utime_;

@@ -33,5 +33,59 @@ TEST(CatchSummary, ScoresWorldOutputsAgainstTheTruthOfTheirFrame) {
   EXPECT_NEAR(j["throughput_ms"]["max"].get<double>(), 2.5, 1e-9);
 }
 
+TEST(ClassifyMiss, NamesTheLossFromThePredictionsAgainstTheTrueExit) {
+  BallTrack t;
+  t.true_exit_x_b_mm = 300.0;
+  t.true_exit_utime = 2'000'000;
+  BallOutcome o;
+  classify_miss(t, 30.0, 0.5, o);
+  EXPECT_EQ(o.kind, "not tracked");
+
+  t.first_tracked_y_mm = 120.0;
+  t.predictions = {{1'000'000, 100.0}, {1'500'000, 250.0}, {1'900'000, 200.0}};
+  o = {};
+  classify_miss(t, 30.0, 0.5, o);
+  EXPECT_EQ(o.kind, "wrong place");
+  EXPECT_NEAR(o.prediction_error_mm, 100.0, 1e-9);
+  EXPECT_NEAR(o.first_tracked_y_mm, 120.0, 1e-9);
+
+  // Within 30 mm from 1.7 s on (the 1.5 s one is 50 mm off): 0.3 s ahead.
+  t.predictions = {{1'000'000, 310.0}, {1'500'000, 250.0}, {1'700'000, 320.0}, {1'900'000, 295.0}};
+  o = {};
+  classify_miss(t, 30.0, 0.5, o);
+  EXPECT_EQ(o.kind, "prediction late");
+  EXPECT_NEAR(o.lead_s, 0.3, 1e-9);
+  EXPECT_NEAR(o.prediction_error_mm, 5.0, 1e-9);
+
+  // Settled 1 s ahead: the arm had the time.
+  t.predictions = {{1'000'000, 310.0}, {1'500'000, 290.0}, {1'900'000, 295.0}};
+  o = {};
+  classify_miss(t, 30.0, 0.5, o);
+  EXPECT_EQ(o.kind, "arm late");
+  EXPECT_NEAR(o.lead_s, 1.0, 1e-9);
+}
+
+TEST(CatchSummary, ClassifiesAMissedBallFromTheWorldModelsPredictions) {
+  CatchSummary s(3);
+  const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  // Ball 0 rolls in two frames; the world model predicts its exit in both,
+  // the second time 10 mm off, 0.9 s before the true exit: the arm was late.
+  for (int64_t u : {1'000'000, 1'100'000}) {
+    s.on_truth(u, true, {300, 100}, -1, false, false, "", pose);
+    s.on_ball_truth(u, 0, true, 100.0, 300.0, 2'000'000);
+  }
+  s.on_prediction(1'000'000, true, true, 400.0);
+  s.on_prediction(1'100'000, true, true, 310.0);
+  s.on_prediction(1'200'000, true, true, 0.0);  // no truth frame: ignored
+  s.on_truth(2'500'000, false, {0, 0}, 0, false, true, "cup 90 mm from the ball's path", pose);
+  const auto j = s.to_json();
+  ASSERT_EQ(j["missed"].size(), 1u);
+  EXPECT_EQ(j["missed"][0]["kind"], "arm late");
+  EXPECT_NEAR(j["missed"][0]["lead_s"].get<double>(), 0.9, 1e-9);
+  EXPECT_NEAR(j["missed"][0]["first_tracked_y_mm"].get<double>(), 100.0, 1e-9);
+  EXPECT_EQ(j["missed_kinds"]["arm late"], 1);
+  EXPECT_EQ(j["missed_kinds_oracle_reachable"]["arm late"], 1);
+}
+
 }  // namespace
 }  // namespace ephor::catching

@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/catch/catch_channels.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -20,7 +21,6 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/catch_world_t.hpp"
 #include "ephor/sched_status_t.hpp"
-#include "common/catch/catch_channels.h"
 #include "procs/catch/monitor/catch_summary.h"
 
 namespace {
@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
                        Eigen::Vector2d(m.ball_b_mm[0], m.ball_b_mm[1]), m.last_ball, m.last_caught,
                        m.last_oracle_reachable, m.last_reason,
                        pose_of(m.board_to_camera_r, m.board_to_camera_t_mm));
+      summary.on_ball_truth(m.utime, m.ball, m.phase == catch_truth_t::PHASE_ROLLING,
+                            m.ball_b_mm[1], m.exit_x_b_mm, m.exit_utime);
       if (m.last_ball >= 0 && m.last_ball != last_logged) {
         last_logged = m.last_ball;
         spdlog::info("ball {}: {}{}", m.last_ball, m.last_caught ? "" : "missed: ", m.last_reason);
@@ -76,6 +78,8 @@ int main(int argc, char** argv) {
         p = Eigen::Vector2d(m.position_b_mm[0], m.position_b_mm[1]);
       std::lock_guard<std::mutex> lock(mutex);
       summary.on_world(m.utime, m.latency_ms, p);
+      summary.on_prediction(m.utime, m.status == catch_world_t::STATUS_TRACKING,
+                            m.has_prediction != 0, m.exit_x_b_mm);
     });
     bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose,
                                       [&](const catch_board_pose_t& m) {
