@@ -11,12 +11,13 @@
 #include <CLI/CLI.hpp>
 
 #include "common/calibration/field_calibration.h"
+#include "common/runtime/process_args.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ephor-make-sim-calibration: calibration of the simulator's default camera"};
   std::string out;
   app.add_option("--out", out, "calibration file to write (Protobuf text)")->required();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   try {
     const auto cal = ephor::calibration::FieldCalibration::from_camera(
         ephor::geometry::OverheadCamera{}, ephor::geometry::Workcell{});

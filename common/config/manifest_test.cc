@@ -159,5 +159,15 @@ TEST(Manifest, MissingFileIsNamed) {
   }
 }
 
+// A folder opens as an empty stream: it must not load as an empty manifest.
+TEST(Manifest, FolderIsRefused) {
+  try {
+    load_manifest("/tmp");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/tmp: is a folder"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace ephor

@@ -1,5 +1,6 @@
 #include "common/config/text_proto.h"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -47,6 +48,11 @@ std::vector<PathStep> split_path(const std::string& path) {
 }
 
 std::string read_file(const std::string& path) {
+  // A folder opens as an empty stream on Linux: it would parse as an empty
+  // message, and a process would start with every default (issue 18).
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path + ": is a folder, not a file");
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot open file");
   std::stringstream text;

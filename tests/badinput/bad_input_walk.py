@@ -53,7 +53,7 @@ FILE_INPUTS = {
     "ephor-display": ["--calibration"],
     "ephor-e2e-probe": [],
     "ephor-launch": [None],
-    "ephor-log": [],  # its subcommands' files: EXTRA_CASES
+    "ephor-log": [],  # its subcommands. files: the tools/ephor log cases
     "ephor-make-sim-calibration": [],
     "ephor-monitor": [],
     "ephor-planner": ["--calibration", "--workcell"],
@@ -84,7 +84,7 @@ def base_args(src):
         "ephor-catch-track": ["video.avi", "--board", board, "--camera", camera,
                               "--fps", "30", "--json", "-"],
         "ephor-launch": ["manifest.pbtxt"],
-        "ephor-log": ["info", "run.lcm"],
+        "ephor-log": ["info", os.path.join(src, "README.md")],  # an existing file
         "ephor-make-sim-calibration": ["--out", "out.pbtxt"],
         "ephor-replay": ["run.lcm"],
         "ephor-scheduler": ["--manifest", "manifest.pbtxt"],

@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/lcm/bus.h"
+#include "common/runtime/process_args.h"
 #include "ephor/shepherd_blobs_t.hpp"
 
 namespace {
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
   app.add_option("--timeout-s", timeout_s, "give up after this long, s");
   app.add_option("--min", min, "messages wanted (messages)");
   app.add_option("--lcm-url", url, "LCM URL (default as every ephor process)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   int want_mode = -1;
   if (want.rfind("mode=", 0) == 0) {
     want_mode = std::stoi(want.substr(5));

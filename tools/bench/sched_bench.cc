@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/runtime/periodic_release.h"
+#include "common/runtime/process_args.h"
 #include "common/runtime/thread_sched.h"
 #include "common/time/clock.h"
 
@@ -166,7 +167,7 @@ int main(int argc, char** argv) {
   app.add_option("--priority", priority, "SCHED_FIFO priority")->check(CLI::Range(1, 99));
   app.add_option("--period-us", period_us, "release period, us (1000 = 1 kHz)")
       ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   if (cpu >= online_cpus()) {
     std::fprintf(stderr, "--cpu %d: this machine has %d online CPUs\n", cpu, online_cpus());
     return 2;

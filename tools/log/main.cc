@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/runtime/process_args.h"
 #include "tools/log/lcm_schema.h"
 #include "tools/log/log_exporter.h"
 
@@ -38,7 +39,7 @@ int main(int argc, char** argv) {
   bool csv = false;
   bool json = false;
   auto* exp = app.add_subcommand("export", "write the messages of some channels as CSV or JSON");
-  exp->add_option("file", log_path, "LCM log file")->required();
+  exp->add_option("file", log_path, "LCM log file")->required()->check(CLI::ExistingFile);
   exp->add_option("--channel", options.channel_regex,
                   "channel name or regular expression (POSIX extended, whole name)")
       ->required();
@@ -50,8 +51,8 @@ int main(int argc, char** argv) {
 
   std::string info_path;
   auto* info = app.add_subcommand("info", "channels, types, rates and missing messages of a log");
-  info->add_option("file", info_path, "LCM log file")->required();
-  CLI11_PARSE(app, argc, argv);
+  info->add_option("file", info_path, "LCM log file")->required()->check(CLI::ExistingFile);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   try {
     const auto schema = ephor::logtools::LcmSchema::load_directory(types_dir);

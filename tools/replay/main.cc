@@ -40,6 +40,7 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
+#include "common/runtime/process_args.h"
 #include "ephor/task_register_t.hpp"
 #include "tools/replay/replay_plan.h"
 
@@ -148,7 +149,8 @@ int main(int argc, char** argv) {
   bool only_processed = false, attach = false;
   std::vector<std::string> vision_args, worldmodel_args;
   app.add_option("log", log_path, "LCM log of a run (lcm-logger, tools/ephor log record)")
-      ->required();
+      ->required()
+      ->check(CLI::ExistingFile);
   app.add_option("--procs", procs, "processes to replay through, comma-separated");
   app.add_option("--out", out_path, "write the outputs to this LCM log");
   app.add_option("--timeout-s", timeout_s, "longest wait for one frame's output, s")
@@ -166,7 +168,7 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--worldmodel-arg", worldmodel_args, "extra flag for ephor-worldmodel (repeat)")
       ->allow_extra_args(false);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   std::unique_ptr<ephor::launcher::ProcessGroup> group;
   std::atomic<bool> polling{true};

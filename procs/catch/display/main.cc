@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 30));
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

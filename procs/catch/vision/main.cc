@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -38,6 +39,7 @@
 #include "common/catch/vision/circle_finder.h"
 #include "common/catch/vision/motion_centroid.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/lcm/mailbox.h"
@@ -99,7 +101,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(4.0, 1000.0));
   app.add_flag("--no-window", no_window, "search the whole image every frame (the paper's way)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -221,6 +223,10 @@ int main(int argc, char** argv) {
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info("summary: {} ball messages, {} bad frames", published.load(), bad_frames.load());
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-catch-vision: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

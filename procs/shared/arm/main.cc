@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <deque>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -37,6 +38,7 @@
 #include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
 #include "common/geometry/workcell_file.h"
@@ -440,7 +442,7 @@ int main(int argc, char** argv) {
                  "long, ms (comm polls every 200 ms while a motion runs; 0 = never; default 1000)")
       ->check(CLI::Range(0.0, 600000.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {
@@ -470,6 +472,10 @@ int main(int argc, char** argv) {
     ephor::wait_for_shutdown_signal(duration_s);
     runtime.stop();
     arm.log_summary();
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-arm: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

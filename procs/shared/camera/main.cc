@@ -11,13 +11,16 @@
 // --fps; 30 Hz when neither says). A frame's utime is the wall clock when
 // it was read (its capture time for a device). At the end of a file or
 // sequence the process exits with status 0, or starts again with --loop.
-// A source that cannot be opened or decoded: a message naming it, exit 1.
+// A source that cannot be opened: one line naming it, exit 2 (bad input);
+// one that fails later: a message naming it, exit 1.
 
 #include <sys/types.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <iostream>
+#include <memory>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -115,11 +118,19 @@ int main(int argc, char** argv) {
   app.add_flag("--loop", loop, "start a file or sequence again at its end");
   app.add_option("--frames", max_frames, "stop after this many frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
+  // A source that cannot be opened is bad input: one line, status 2 (issue 18).
+  std::unique_ptr<ephor::camera::FrameSource> opened;
   try {
-    ephor::camera::FrameSource source(spec);
+    opened = std::make_unique<ephor::camera::FrameSource>(spec);
+  } catch (const std::exception& e) {
+    std::cerr << "ephor-camera: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    ephor::camera::FrameSource& source = *opened;
     ephor::camera::ChannelConverter converter(ephor::camera::parse_colour_channel(channel));
     if (fps <= 0.0) fps = source.stated_fps() > 0.0 ? source.stated_fps() : 30.0;
 

@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
                "a newer goal replaces the motion in progress once the arm has accepted it "
                "(catching); default: each motion ends first (shepherding)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {

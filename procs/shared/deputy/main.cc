@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
   app.add_flag("--quiet", quiet, "do not print the processes' output (it is still published)");
   app.add_option("--grace", grace_s, "seconds between SIGTERM and SIGKILL when stopping a process")
       ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   if (args.host.empty()) {
     std::fprintf(stderr, "ephor-deputy: --host must not be empty\n");
     return 2;

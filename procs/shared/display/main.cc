@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/calibration/field_calibration.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -209,7 +211,7 @@ int main(int argc, char** argv) {
       "--sim-seed", sim_seed,
       "the simulator's seed, sent back unchanged in shepherd_sim_cmd_t (full state) until a "
       "SIM_CMD names another (default 1, ephor-sim's default)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -242,6 +244,10 @@ int main(int argc, char** argv) {
         });
     spdlog::info("calibration {}", calibration_path);
     server.run("display");
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-display: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.allow_extras();
   app.footer("Any other --NAME VALUE sets a parameter the manifest declares.");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   config::Manifest manifest;
   try {

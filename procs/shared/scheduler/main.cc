@@ -7,6 +7,7 @@
 // measured utilisation passes the schedulable bound; publishes
 // EPHOR_SCHED_STATUS at the status period (1 Hz by default).
 
+#include <iostream>
 #include <mutex>
 
 #include <spdlog/spdlog.h>
@@ -122,7 +123,7 @@ int main(int argc, char** argv) {
   app.add_option("--manifest", manifest_path, "deployment manifest (Protobuf text)")->required();
   app.add_option("--print-every", print_every_s,
                  "print the task table every S seconds (0 = never)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -220,6 +221,10 @@ int main(int argc, char** argv) {
       }
     }
     bus.stop();
+  } catch (const ConfigError& e) {
+    // A bad --manifest: one line, status 2 (issue 18).
+    std::cerr << "ephor-scheduler: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
   app.footer(
       "Then optionally a command: start|stop|restart NAME|all.\n"
       "Any other --NAME VALUE sets a parameter the manifest declares.");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   // The command words and the manifest's parameters come after CLI11's own
   // options: --NAME VALUE pairs are parameters, the other words the command.
   std::vector<std::string> param_words;

@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   app.add_option("--leak-kb-per-s", leak_kb_per_s,
                  "allocate and keep this many KiB a second (a leak on purpose, for tests)")
       ->check(CLI::Range(0.0, 1e6));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {

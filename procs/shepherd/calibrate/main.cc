@@ -343,7 +343,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.05, 1.0));
   app.add_option("--settle-s", settle_s, "wait after each move before the frames, s (default 0.3)")
       ->check(CLI::Range(0.0, 10.0));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {

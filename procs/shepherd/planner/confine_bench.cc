@@ -43,6 +43,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/runtime/process_args.h"
 #include "procs/shepherd/planner/herd_types.h"
 #include "procs/shepherd/planner/kinematic_field.h"
 #include "procs/shepherd/planner/planner.h"
@@ -201,8 +202,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   std::string start_path;
   app.add_option("--start", start_path,
-                 "one run per planner from the sheep of this GROUND_TRUTH export (first line)");
-  CLI11_PARSE(app, argc, argv);
+                 "one run per planner from the sheep of this GROUND_TRUTH export (first line)")
+      ->check(CLI::ExistingFile);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   if (!start_path.empty()) {
     std::vector<ephor::planner::Sheep> start;

@@ -11,6 +11,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -24,6 +25,7 @@
 #include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -327,7 +329,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.01, 1000.0));
   app.add_option("--deadline-ms", deadline_ms, "deadline of the plan task, ms")
       ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
   config.lookahead_budget_s = budget_ms * 1e-3;
   // Until ARM_STATE arrives the arm is assumed where ephor-arm parks it.
@@ -389,6 +391,10 @@ int main(int argc, char** argv) {
                  ephor::channels::kArmGoal);
     ephor::wait_for_shutdown_signal();
     runtime.stop();
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-planner: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

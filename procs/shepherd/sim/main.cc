@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -32,6 +33,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/arm/servo_messages.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -157,7 +159,7 @@ int main(int argc, char** argv) {
                  "text config (procs/shepherd/sim/sim_config.proto); flags override it");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   app.add_option("--write-pgm", pgm_path, "render the first frame to this PGM file and exit");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {
@@ -317,6 +319,10 @@ int main(int argc, char** argv) {
         p.sim.world().escapes(), p.sim.world().saves(), p.sim.world().time_s(),
         p.sim.world().sheep().size(), p.frames.load(), p.trajectories_received.load(),
         p.trajectories_refused.load(), p.commands_refused.load(), p.physics_skips.load());
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-sim: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -12,11 +12,13 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "common/runtime/process_args.h"
 #include "procs/shared/camera/channel_converter.h"
 #include "procs/shared/camera/frame_source.h"
 #include "procs/shepherd/track/offline_tracker.h"
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-obscured-s", cfg.world.max_obscured_s,
                  "a track unseen this long is dead, s");
   app.add_option("--frames", max_frames, "stop after this many frames (0 = all)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   try {
     if (threshold != ephor::vision::kThresholdAuto && (threshold < 1 || threshold > 254)) {
@@ -65,7 +67,14 @@ int main(int argc, char** argv) {
     }
     cfg.vision.foreground.mode = ephor::vision::parse_foreground_mode(foreground);
     cfg.settings.threshold = threshold;
-    ephor::camera::FrameSource source(video);
+    // A video that cannot be opened is bad input (status 2), as a bad flag is.
+    std::unique_ptr<ephor::camera::FrameSource> opened;
+    try {
+      opened = std::make_unique<ephor::camera::FrameSource>(video);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(e.what());
+    }
+    ephor::camera::FrameSource& source = *opened;
     if (source.kind() == ephor::camera::SourceKind::kDevice) {
       throw std::invalid_argument("'" + video + "' is a device; track reads recorded video");
     }
@@ -118,6 +127,9 @@ int main(int argc, char** argv) {
                  frame > 0 ? static_cast<double>(blobs) / static_cast<double>(frame) : 0.0,
                  ids.size(), long_tracks, most_visible, json_path.c_str());
     if (frame == 0) throw std::runtime_error("no frame could be read from '" + video + "'");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "ephor-track: error: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ephor-track: error: %s\n", e.what());
     return 1;

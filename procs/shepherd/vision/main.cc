@@ -269,7 +269,7 @@ int main(int argc, char** argv) {
   app.add_flag("--on-frame", on_frame,
                "one job per received frame (a triggered task; for deterministic replay) instead "
                "of the periodic task");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {

@@ -36,6 +36,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/runtime/process_args.h"
 #include "common/runtime/thread_sched.h"
 #include "procs/shepherd/vision/blobifier.h"
 #include "procs/shepherd/vision/synthetic_image.h"
@@ -317,7 +318,7 @@ int main(int argc, char** argv) {
       "--no-rt", no_rt,
       "time under SCHED_OTHER (default: SCHED_FIFO 10 on CPU 1 while timing, as "
       "ephor-vision runs under the scheduler, so other processes' jobs do not preempt it)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   g_warm = cache == "warm";
   try {
     cv::setNumThreads(1);  // one core each: the machine is shared and our search is single-threaded

@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <memory>
 #include <string>
 
@@ -21,6 +22,7 @@
 
 #include "common/calibration/field_calibration.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -185,7 +187,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--deadline-ms", deadline_ms, "deadline of the associate task, ms")
       ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   ephor::init_logging(args.name);
 
   try {
@@ -211,6 +213,10 @@ int main(int argc, char** argv) {
                  ephor::channels::kObjects);
     ephor::wait_for_shutdown_signal();
     runtime.stop();
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-worldmodel: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

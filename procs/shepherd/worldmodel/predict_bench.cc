@@ -42,6 +42,7 @@
 #include "common/calibration/field_calibration.h"
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
+#include "common/runtime/process_args.h"
 #include "procs/shepherd/worldmodel/alpha_beta_filter.h"
 #include "procs/shepherd/worldmodel/world_model.h"
 
@@ -238,7 +239,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed");
   app.add_option("--sheep-speed", nominal_speed_mm_s, "nominal sheep speed, mm/s (default 8)")
       ->check(CLI::Range(0.1, 1000.0));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   try {
     const auto cal = ephor::calibration::FieldCalibration::from_camera({}, {});

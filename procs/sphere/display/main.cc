@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
   app.add_option("--capture-m", options.capture_distance_m,
                  "capture distance drawn on the approach plot, m (default 1, the ranger's)")
       ->check(CLI::Range(0.1, 100.0));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
   if (!std::isfinite(options.capture_distance_m)) {  // CLI::Range lets NaN through
     spdlog::error("--capture-m must be a number of metres in 0.1..100");

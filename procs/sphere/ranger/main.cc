@@ -148,11 +148,7 @@ int main(int argc, char** argv) {
   app.add_option("--summary", summary_path, "write a JSON summary of the approaches here at exit");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until done)")
       ->check(CLI::Range(0.0, 1e7));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   config.seed = static_cast<uint64_t>(seed);

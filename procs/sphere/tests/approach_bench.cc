@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/runtime/process_args.h"
 #include "procs/sphere/tests/approach_sim.h"
 
 using namespace ephor::sphere;
@@ -38,11 +39,7 @@ int main(int argc, char** argv) {
   app.add_flag("--background", background, "far wall behind the lower half of the frame");
   app.add_option("--json", json_path, "write the results here");
   app.add_option("--verbose-seed", verbose_seed, "print every window of this seed");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
-  }
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   LocatorConfig lc;
   try {
     lc.algorithm = parse_algorithm(algorithm);
