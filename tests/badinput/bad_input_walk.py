@@ -83,12 +83,12 @@ def base_args(src):
         "ephor-camera": ["video.avi"],
         "ephor-catch-track": ["video.avi", "--board", board, "--camera", camera,
                               "--fps", "30", "--json", "-"],
-        "ephor-launch": ["manifest.pbtxt"],
+        "ephor-launch": [os.path.join(src, "deploy/shepherd.pbtxt")],  # flags may be its parameters
         "ephor-log": ["info", os.path.join(src, "README.md")],  # an existing file
         "ephor-make-sim-calibration": ["--out", "out.pbtxt"],
         "ephor-replay": ["run.lcm"],
         "ephor-scheduler": ["--manifest", "manifest.pbtxt"],
-        "ephor-sheriff": ["manifest.pbtxt"],
+        "ephor-sheriff": [os.path.join(src, "deploy/shepherd.pbtxt")],  # flags may be its parameters
         "ephor-sphere-locate": ["scan.csv", "--json", "-"],
         "ephor-sphere-scan": ["--out", "scan.csv"],
         "ephor-testtask": ["--task", "periodic:t:10"],
