@@ -1,0 +1,116 @@
+#include "common/rambo/tagging_planner.h"
+
+#include <cmath>
+#include <limits>
+
+#include "common/rambo/reaching_planner.h"
+#include "common/rambo/rigid_body_pose_predictor.h"
+#include "common/rambo/task_orderer.h"
+
+namespace ephor::rambo {
+
+Eigen::Isometry3d FittedMotion::pose(double t_s) const {
+  Eigen::Quaterniond q = orientation;
+  Eigen::Vector3d w = body_rates_rad_s;
+  RigidBodyPosePredictor::propagate(principal_moments, 0.005, t_s - t_ref_s, &q, &w);
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = q.normalized().toRotationMatrix();
+  p.translation() = position_mm + velocity_mm_s * (t_s - t_ref_s);
+  return p;
+}
+
+bool FittedMotion::finite() const {
+  return std::isfinite(t_ref_s) && position_mm.allFinite() && velocity_mm_s.allFinite() &&
+         orientation.coeffs().allFinite() && orientation.norm() > 0.5 &&
+         body_rates_rad_s.allFinite() && principal_moments.allFinite() &&
+         principal_moments.minCoeff() > 0.0;
+}
+
+TaggingPlanner::TaggingPlanner(const RamboCell& cell, TaggingOptions options)
+    : cell_(cell), options_(options), arm_(cell.tool_length_mm) {}
+
+std::optional<arm::Joints> TaggingPlanner::goal_joints(int diode, const FittedMotion& m, double t_s,
+                                                       const arm::Joints& near) const {
+  return arm_.nearest_inverse(m.pose(t_s) * cell_.goal_in_target(diode), near);
+}
+
+TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
+                                 const std::vector<bool>& tagged, const arm::Joints& current_q) {
+  TaggingStep s;
+  if (!motion.finite() || !current_q.allFinite()) {
+    s.status = "no usable prediction or arm state";
+    return s;
+  }
+  const int n = static_cast<int>(cell_.diodes.size());
+  std::vector<int> open;
+  for (int i = 0; i < n; ++i)
+    if (i >= static_cast<int>(tagged.size()) || !tagged[static_cast<std::size_t>(i)])
+      open.push_back(i);
+  if (open.empty()) {
+    task_ = -1;
+    s.status = "all diodes tagged";
+    return s;
+  }
+  const double hold_s = options_.required_s + options_.hold_margin_s;
+  const bool keep = task_ >= 0 && std::find(open.begin(), open.end(), task_) != open.end() &&
+                    goal_joints(task_, motion, now_s + options_.lead_s, current_q).has_value();
+  if (!keep) {
+    // Only diodes whose goal the arm can hold now are ordered; the others
+    // come back when the tumble turns them towards the arm.
+    std::vector<int> reachable;
+    for (int i : open)
+      if (goal_joints(i, motion, now_s + 1.0, current_q) &&
+          goal_joints(i, motion, now_s + 1.0 + hold_s, current_q))
+        reachable.push_back(i);
+    open = reachable;
+    // Section 10 over the open diodes; cost: the straight-line heuristic.
+    const Eigen::Vector3d tool_now = arm_.forward(current_q).translation();
+    auto goal_pos = [&](int k, double t) {
+      return (motion.pose(t) * cell_.goal_in_target(open[static_cast<std::size_t>(k)]))
+          .translation();
+    };
+    ReachingDurationFn cost = [&](int from, int to, double launch_s) {
+      const Eigen::Vector3d a =
+          from == TaskOrderer::kInitialTrajectory ? tool_now : goal_pos(from, launch_s);
+      const double t = ReachingPlanner::linear_path_duration(a, goal_pos(to, launch_s),
+                                                             options_.safe_speed_mm_s) +
+                       options_.settle_s;
+      const int d = open[static_cast<std::size_t>(to)];
+      if (!goal_joints(d, motion, launch_s + t, current_q) ||
+          !goal_joints(d, motion, launch_s + t + hold_s, current_q))
+        return std::numeric_limits<double>::infinity();
+      return t;
+    };
+    const TaskOrderer orderer(std::vector<double>(open.size(), hold_s), cost);
+    const TaskOrder g = orderer.greedy(now_s);
+    const TaskOrder e = orderer.exhaustive(now_s);
+    const TaskOrder d = orderer.dynamic_programming(now_s);
+    s.reordered = true;
+    s.greedy_trajectories = g.reaching_trajectories;
+    s.exhaustive_trajectories = e.reaching_trajectories;
+    s.dp_trajectories = d.reaching_trajectories;
+    s.order_total_s = d.total_time_s;
+    for (int k : d.order) s.order.push_back(open[static_cast<std::size_t>(k)]);
+    // DP needs every task reachable; when it is not, greedy's first feasible move.
+    const std::vector<int>& first = !d.order.empty() ? d.order : g.order;
+    task_ = first.empty() ? -1 : open[static_cast<std::size_t>(first.front())];
+    last_order_ = s;
+  } else {
+    s.order = last_order_.order;
+    s.greedy_trajectories = last_order_.greedy_trajectories;
+    s.exhaustive_trajectories = last_order_.exhaustive_trajectories;
+    s.dp_trajectories = last_order_.dp_trajectories;
+    s.order_total_s = last_order_.order_total_s;
+  }
+  s.task = task_;
+  if (task_ < 0) {
+    s.status = "no diode within reach of the predicted motion";
+    return s;
+  }
+  s.goal_q = goal_joints(task_, motion, now_s + options_.lead_s, current_q);
+  s.status = s.goal_q ? "following diode " + cell_.diodes[static_cast<std::size_t>(task_)].name
+                      : "goal out of reach";
+  return s;
+}
+
+}  // namespace ephor::rambo

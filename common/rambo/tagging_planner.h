@@ -1,0 +1,81 @@
+#pragma once
+// The RAMBO planner's step for laser tagging (paper sections 7-10), as the
+// shared arm server can carry it out: the order of the untagged diodes by
+// greedy, exhaustive and dynamic programming (TaskOrderer, counting the
+// reaching trajectories each computes) and, for the diode being tagged, the
+// joint goal that puts the laser on its goal point's predicted pose a short
+// lead ahead. Sent again every step, these goals make the tagging joint
+// follow the goal trajectory.
+//
+// What is not the paper's: the shared ephor-arm takes point-to-point goals
+// only (no joint trajectory from the planner), so the reaching trajectories
+// of sections 8-9 are not what the arm executes; the ordering's cost is the
+// section 9 serial-machine heuristic (straight line at a safe tool speed,
+// ReachingPlanner::linear_path_duration) plus feasibility (inverse kinematics
+// at landing and at the end of the hold), not section 9's scan over T.
+//
+// Times in s on the wall clock (utime * 1e-6); poses in the base frame, mm.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/arm/puma560.h"
+#include "common/rambo/rambo_cell.h"
+
+namespace ephor::rambo {
+
+// The predictor's fit: a torque-free rigid body with constant momenta.
+struct FittedMotion {
+  double t_ref_s = 0.0;
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // origin at t_ref
+  Eigen::Vector3d velocity_mm_s = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // target -> base at t_ref
+  Eigen::Vector3d body_rates_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d principal_moments = Eigen::Vector3d::Ones();
+  // Target in base at t_s (Euler's equations, RK4 in 5 ms steps).
+  Eigen::Isometry3d pose(double t_s) const;
+  bool finite() const;
+};
+
+struct TaggingOptions {
+  double lead_s = 0.3;           // goal pose this far ahead of now (the arm's latency)
+  double safe_speed_mm_s = 150;  // section 9 heuristic's tool speed
+  double settle_s = 0.3;         // added to each straight-line duration
+  double hold_margin_s = 1.0;    // hold = required lit duration + this
+  double required_s = RamboCell::kRequiredS;
+};
+
+struct TaggingStep {
+  int task = -1;                      // diode index, -1 = none
+  std::optional<arm::Joints> goal_q;  // rad
+  std::string status;
+  std::vector<int> order;  // diode indices, DP order (empty when not ordered this step)
+  std::int64_t greedy_trajectories = 0, exhaustive_trajectories = 0, dp_trajectories = 0;
+  double order_total_s = 0.0;
+  bool reordered = false;
+};
+
+class TaggingPlanner {
+ public:
+  TaggingPlanner(const RamboCell& cell, TaggingOptions options = {});
+
+  // tagged[i]: diode i done. current_q: the arm now (rad).
+  TaggingStep step(double now_s, const FittedMotion& motion, const std::vector<bool>& tagged,
+                   const arm::Joints& current_q);
+
+  int current_task() const { return task_; }
+
+ private:
+  std::optional<arm::Joints> goal_joints(int diode, const FittedMotion& m, double t_s,
+                                         const arm::Joints& near) const;
+  RamboCell cell_;
+  TaggingOptions options_;
+  arm::Puma560 arm_;
+  int task_ = -1;
+  TaggingStep last_order_;
+};
+
+}  // namespace ephor::rambo

@@ -1,0 +1,93 @@
+// RamboCell, DiodeIndicator and TaggingPlanner on hand-checked cases.
+#include <gtest/gtest.h>
+
+#include "common/rambo/diode_indicator.h"
+#include "common/rambo/rambo_cell.h"
+#include "common/rambo/tagging_planner.h"
+
+namespace ephor::rambo {
+namespace {
+
+TEST(RamboCell, GoalsPutTheBeamIntoTheLensesAndAreReachableAtRest) {
+  const RamboCell cell = RamboCell::make(4);
+  const arm::Puma560 arm(cell.tool_length_mm);
+  TumblingMotion m = cell.draw_motion(1, 2.0, 1.0);
+  m.pose0.linear().setIdentity();  // as built, before the seed's tilt
+  DiodeIndicator ind(cell.diodes, 5.0, 12.0, 1.0);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Isometry3d goal = m.pose0 * cell.goal_in_target(i);
+    EXPECT_TRUE(arm.nearest_inverse(goal, cell.start_joints).has_value()) << "diode " << i;
+    const DiodeReading r = ind.read(i, m.pose0, goal.translation(), goal.linear().col(2));
+    EXPECT_TRUE(r.lit) << i;
+    EXPECT_NEAR(r.beam_angle_deg, 0.0, 1e-6);
+    EXPECT_NEAR(r.beam_offset_mm, 0.0, 1e-6);
+  }
+  EXPECT_THROW(RamboCell::make(0), std::invalid_argument);
+  EXPECT_THROW(RamboCell::make(5), std::invalid_argument);
+}
+
+TEST(DiodeIndicator, TagsAfterTheRequiredUnbrokenDuration) {
+  const RamboCell cell = RamboCell::make(1);
+  DiodeIndicator ind(cell.diodes, 5.0, 12.0, 1.0);
+  const Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d on = cell.goal_in_target(0);
+  const Eigen::Vector3d dir = on.linear().col(2);
+  // 6 deg off the axis: not lit.
+  const Eigen::Vector3d tilted =
+      Eigen::AngleAxisd(6.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * dir;
+  EXPECT_FALSE(ind.read(0, target, on.translation(), tilted).lit);
+  // 15 mm beside the lens: not lit.
+  EXPECT_FALSE(ind.read(0, target, on.translation() + Eigen::Vector3d(0, 15, 0), dir).lit);
+  // Beam pointing away: not lit.
+  EXPECT_FALSE(ind.read(0, target, on.translation(), -dir).lit);
+  for (int k = 0; k <= 5; ++k) ind.step(0.1 * k, target, on.translation(), dir);
+  EXPECT_EQ(ind.lit_diode(), 0);
+  EXPECT_FALSE(ind.tagged(0));
+  ind.step(0.6, target, on.translation(), tilted);  // broken
+  EXPECT_EQ(ind.lit_diode(), -1);
+  for (int k = 7; k <= 16; ++k) ind.step(0.1 * k, target, on.translation(), dir);
+  EXPECT_FALSE(ind.tagged(0));
+  ind.step(1.75, target, on.translation(), dir);
+  EXPECT_TRUE(ind.tagged(0));
+  EXPECT_NEAR(ind.tagged_at_s(0), 1.75, 1e-9);
+  // NaN beam: no beam, no crash.
+  ind.step(1.8, target, Eigen::Vector3d::Constant(std::nan("")), dir);
+  EXPECT_EQ(ind.lit_diode(), -1);
+}
+
+TEST(TaggingPlanner, OrdersTheOpenDiodesAndAimsAtTheFirst) {
+  const RamboCell cell = RamboCell::make(4);
+  TumblingMotion m = cell.draw_motion(3, 2.0, 1.0);
+  m.pose0.linear().setIdentity();  // every diode within reach (the "left" one barely)
+  m.body_rates_rad_s = Eigen::Vector3d(0.0, 0.0, 0.01);
+  FittedMotion f;
+  f.t_ref_s = 100.0;
+  f.position_mm = m.pose0.translation();
+  f.velocity_mm_s = m.velocity_mm_s;
+  f.orientation = Eigen::Quaterniond(m.pose0.linear());
+  f.body_rates_rad_s = m.body_rates_rad_s;
+  f.principal_moments = cell.principal_moments;
+  TaggingPlanner planner(cell);
+  const TaggingStep s = planner.step(100.0, f, {false, true, false, false}, cell.start_joints);
+  ASSERT_TRUE(s.reordered);
+  ASSERT_EQ(s.order.size(), 3u);
+  EXPECT_TRUE(std::find(s.order.begin(), s.order.end(), 1) == s.order.end());
+  EXPECT_EQ(s.exhaustive_trajectories, 15);  // 3 tasks, all feasible
+  EXPECT_EQ(s.dp_trajectories, 15);
+  EXPECT_EQ(s.greedy_trajectories, 6);
+  ASSERT_TRUE(s.goal_q.has_value());
+  EXPECT_EQ(s.task, s.order.front());
+  // The goal puts the beam into that diode's lens at now + lead.
+  const arm::Puma560 arm(cell.tool_length_mm);
+  const Eigen::Isometry3d tool = arm.forward(*s.goal_q);
+  DiodeIndicator ind(cell.diodes, 5.0, 12.0, 1.0);
+  EXPECT_TRUE(ind.read(s.task, f.pose(100.3), tool.translation(), tool.linear().col(2)).lit);
+  // The same task is kept while it is open; a bad prediction gives no goal.
+  EXPECT_FALSE(planner.step(100.2, f, {false, true, false, false}, *s.goal_q).reordered);
+  FittedMotion bad = f;
+  bad.position_mm.x() = std::nan("");
+  EXPECT_FALSE(planner.step(100.4, bad, {false, false, false, false}, *s.goal_q).goal_q);
+}
+
+}  // namespace
+}  // namespace ephor::rambo

@@ -1,0 +1,187 @@
+// ephor-rambo-planner: RAMBO's robot motion planner for laser tagging (paper
+// sections 7-10) over TaggingPlanner: orders the untagged diodes (greedy,
+// exhaustive, dynamic programming; the DP order is followed) and streams the
+// joint goal that holds the laser on the current diode's predicted goal point
+// a short lead ahead. The shared comm (newest goal wins) and arm carry them
+// out; the target's indicator says which diodes are done.
+//
+//   subscribes  RAMBO_PREDICTION (rambo_prediction_t), RAMBO_INDICATOR
+//               (rambo_indicator_t), ARM_STATE (arm_state_t)
+//   publishes   ARM_GOAL (arm_goal_t, KIND_JOINTS), RAMBO_PLAN (rambo_plan_t)
+//   tasks       plan (periodic, --period-ms)
+//
+// Not the paper's yet: the arm executes point-to-point goals, not the
+// section 8-9 reaching trajectories (the shared ephor-arm takes no joint
+// trajectory from a planner); see common/rambo/tagging_planner.h.
+
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/rambo/rambo_cell.h"
+#include "common/rambo/rambo_channels.h"
+#include "common/rambo/tagging_planner.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/rambo_indicator_t.hpp"
+#include "ephor/rambo_plan_t.hpp"
+#include "ephor/rambo_prediction_t.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ephor;
+  using namespace ephor::rambo;
+  block_shutdown_signals();
+  CLI::App app{"ephor-rambo-planner: diode order and laser goals on the tumbling target"};
+  ProcessArgs args;
+  add_process_flags(app, args, "planner");
+  int diodes = 4;
+  double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 1.5;
+  TaggingOptions options;
+  app.add_option("--diodes", diodes, "diodes on the target, 1-4 (default 4)")
+      ->check(CLI::Range(1, 4));
+  app.add_option("--period-ms", period_ms, "planning period, ms (default 200)")
+      ->check(CLI::Range(20.0, 5000.0));
+  app.add_option("--lead-s", options.lead_s, "aim at the goal this far ahead, s (default 0.3)")
+      ->check(CLI::Range(0.0, 5.0));
+  app.add_option("--max-prediction-age-s", max_prediction_age_s,
+                 "no goals from a prediction older than this, s (default 1.5)")
+      ->check(CLI::Range(0.1, 60.0));
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const RamboCell cell = RamboCell::make(diodes);
+    TaggingPlanner planner(cell, options);
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    std::mutex mutex;
+    std::optional<FittedMotion> motion;
+    int64_t motion_utime = 0;
+    std::optional<arm::Joints> q_now;
+    std::vector<bool> tagged(static_cast<std::size_t>(diodes), false);
+    std::atomic<int64_t> goals{0}, bad{0};
+    const int64_t run_id = wall_us();
+    int last_task = -2;
+    std::string last_status;
+
+    bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
+      if (!m.fitted) return;
+      FittedMotion f;
+      f.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
+      f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
+      f.velocity_mm_s = Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
+      f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
+                                         m.orientation_wxyz[2], m.orientation_wxyz[3]);
+      f.body_rates_rad_s =
+          Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
+      f.principal_moments =
+          Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1], m.principal_moments[2]);
+      if (!f.finite()) {
+        ++bad;
+        spdlog::warn("RAMBO_PREDICTION from {} ignored: not finite", m.header.sender);
+        return;
+      }
+      f.orientation.normalize();
+      std::lock_guard<std::mutex> lock(mutex);
+      motion = f;
+      motion_utime = m.ref_utime;
+    });
+    bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {
+      if (m.num_diodes != diodes || static_cast<int>(m.tagged.size()) != diodes) {
+        ++bad;
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      for (int i = 0; i < diodes; ++i)
+        tagged[static_cast<std::size_t>(i)] = m.tagged[static_cast<std::size_t>(i)];
+    });
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      arm::Joints q;
+      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
+      if (!q.allFinite()) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      q_now = q;
+    });
+
+    runtime.add_periodic(
+        "plan", std::chrono::microseconds(static_cast<int64_t>(period_ms * 1e3)), [&] {
+          rambo_plan_t plan{};
+          std::optional<arm::Joints> goal;
+          int64_t source_utime = 0;
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            const int64_t now = wall_us();
+            plan.utime = now;
+            plan.current_task = -1;
+            if (!motion || !q_now) {
+              plan.status = "waiting for a prediction and the arm";
+            } else if (static_cast<double>(now - motion_utime) * 1e-6 > max_prediction_age_s) {
+              plan.status = "prediction too old";
+            } else {
+              const TaggingStep s =
+                  planner.step(static_cast<double>(now) * 1e-6, *motion, tagged, *q_now);
+              plan.status = s.status;
+              plan.current_task = s.task;
+              plan.order = s.order;
+              plan.greedy_trajectories = s.greedy_trajectories;
+              plan.exhaustive_trajectories = s.exhaustive_trajectories;
+              plan.dp_trajectories = s.dp_trajectories;
+              plan.order_total_s = std::isfinite(s.order_total_s) ? s.order_total_s : -1.0;
+              goal = s.goal_q;
+              source_utime = motion_utime;
+              if (s.reordered) {
+                std::string order;
+                for (int i : s.order) order += " " + cell.diodes[static_cast<std::size_t>(i)].name;
+                spdlog::info(
+                    "order (DP):{}; reaching trajectories computed: greedy {}, exhaustive {}, "
+                    "DP {}",
+                    order, s.greedy_trajectories, s.exhaustive_trajectories, s.dp_trajectories);
+              }
+            }
+            if (plan.current_task != last_task || plan.status != last_status) {
+              spdlog::info("{}", plan.status);
+              last_task = plan.current_task;
+              last_status = plan.status;
+            }
+          }
+          plan.num_tasks = static_cast<int32_t>(plan.order.size());
+          if (goal) {
+            arm_goal_t g{};
+            g.utime = wall_us();
+            g.goal_id = run_id + goals;
+            g.kind = arm_goal_t::KIND_JOINTS;
+            for (int j = 0; j < 6; ++j) g.joints_rad[j] = (*goal)[j];
+            g.max_speed_mm_s = 0.0f;
+            g.source_frame_utime = source_utime;
+            g.target_object = plan.current_task;
+            bus.publish(ephor::channels::kArmGoal, g);
+            ++goals;
+          }
+          plan.goals_sent = goals;
+          bus.publish(rambo::channels::kPlan, plan);
+        });
+
+    runtime.start();
+    spdlog::info("ready: {} diodes, goals every {} ms, lead {} s", diodes, period_ms,
+                 options.lead_s);
+    wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    spdlog::info("summary: {} goals sent, {} bad messages", goals.load(), bad.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

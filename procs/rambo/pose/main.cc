@@ -1,0 +1,180 @@
+// ephor-rambo-pose: the target's pose from each frame's image triples (RAMBO
+// paper, section 5: triangle pairs, clustering, pruning after consistent
+// poses; TrianglePoseEstimator), moved to the base frame with the camera's
+// pose at the frame's capture time (section 6: the arm's joints from
+// ARM_STATE, interpolated to the capture time, and the camera's mount on the
+// tool plate).
+//
+//   subscribes  RAMBO_FEATURES (rambo_features_t), ARM_STATE (arm_state_t)
+//   publishes   RAMBO_POSE (rambo_pose_t), one per features message
+//   tasks       pose (triggered by RAMBO_FEATURES: always the newest)
+//
+// The features are, for now, the simulator's oracle (see rambo_features_t):
+// this process is the real section 5, its input is not yet section 4.
+
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/lcm/mailbox.h"
+#include "common/log/log.h"
+#include "common/rambo/rambo_cell.h"
+#include "common/rambo/rambo_channels.h"
+#include "common/rambo/triangle_pose_estimator.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/rambo_features_t.hpp"
+#include "ephor/rambo_pose_t.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ephor;
+  using namespace ephor::rambo;
+  block_shutdown_signals();
+  CLI::App app{"ephor-rambo-pose: target pose from image triples (triangle pairs)"};
+  ProcessArgs args;
+  add_process_flags(app, args, "pose");
+  std::string method = "exact";
+  double duration_s = 0.0, prior_max_age_s = 1.0;
+  app.add_option("--method", method, "exact (P3P per triangle pair) or paraperspective")
+      ->check(CLI::IsMember({"exact", "paraperspective"}));
+  app.add_option("--prior-max-age-s", prior_max_age_s,
+                 "prune with the last pose when it is at most this old, s (0 = never prune)")
+      ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const RamboCell cell = RamboCell::make(4);
+    TrianglePoseOptions options;
+    options.method = method == "exact" ? TrianglePoseMethod::kExactPerspective
+                                       : TrianglePoseMethod::kParaperspective;
+    const TrianglePoseEstimator estimator(cell.model, cell.camera, options);
+    const arm::Puma560 arm(cell.tool_length_mm);
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    std::mutex mutex;
+    std::deque<std::pair<int64_t, arm::Joints>> joints;  // ARM_STATE history, utime -> q
+    Mailbox<rambo_features_t> features;
+    std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
+    std::atomic<int64_t> found{0}, not_found{0}, bad{0};
+
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      arm::Joints q;
+      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
+      if (!q.allFinite()) {
+        ++bad;
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!joints.empty() && m.utime <= joints.back().first) return;
+      joints.emplace_back(m.utime, q);
+      while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
+    });
+    bus.subscribe<rambo_features_t>(rambo::channels::kFeatures, [&](const rambo_features_t& m) {
+      features.put(m);
+      runtime.trigger("pose");
+    });
+
+    // The joints at utime, linear between ARM_STATE samples (caller holds mutex).
+    auto joints_at = [&](int64_t utime) -> std::optional<arm::Joints> {
+      if (joints.empty() || utime < joints.front().first) return std::nullopt;
+      if (utime >= joints.back().first)
+        return utime - joints.back().first < 50'000 ? std::optional(joints.back().second)
+                                                    : std::nullopt;
+      for (std::size_t k = 1; k < joints.size(); ++k) {
+        if (joints[k].first < utime) continue;
+        const double a = static_cast<double>(utime - joints[k - 1].first) /
+                         static_cast<double>(joints[k].first - joints[k - 1].first);
+        return arm::Joints((1.0 - a) * joints[k - 1].second + a * joints[k].second);
+      }
+      return std::nullopt;
+    };
+
+    runtime.add_triggered("pose", std::chrono::milliseconds(150), [&] {
+      const auto f = features.take();
+      if (!f) return;
+      rambo_pose_t out{};
+      out.utime = f->utime;
+      out.frame_index = f->frame_index;
+      std::vector<ImageTriple> triples;
+      bool finite = static_cast<int>(f->triples_px.size()) == f->num_triples;
+      for (const auto& t : f->triples_px) {
+        ImageTriple it;
+        it.reference_px = {t[0], t[1]};
+        it.a_px = {t[2], t[3]};
+        it.b_px = {t[4], t[5]};
+        finite =
+            finite && it.reference_px.allFinite() && it.a_px.allFinite() && it.b_px.allFinite();
+        triples.push_back(it);
+      }
+      std::optional<arm::Joints> q;
+      std::optional<Eigen::Isometry3d> prior_in_base;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        q = joints_at(f->utime);
+        if (last && prior_max_age_s > 0 &&
+            static_cast<double>(f->utime - last->first) * 1e-6 <= prior_max_age_s)
+          prior_in_base = last->second;
+      }
+      if (!finite) {
+        ++bad;
+        out.reason = "features message malformed (sizes or non-finite pixels)";
+      } else if (!q) {
+        out.reason = "no arm state at the frame's capture time (camera pose unknown)";
+      } else if (triples.empty()) {
+        out.reason = "no image triples in the frame";
+      } else {
+        const Eigen::Isometry3d camera = arm.forward(*q) * cell.camera_in_tool;
+        const Eigen::Isometry3d prior =
+            prior_in_base ? camera.inverse() * *prior_in_base : Eigen::Isometry3d::Identity();
+        const int64_t cpu0 = thread_cpu_ns();
+        const TrianglePoseResult r = estimator.estimate(triples, prior_in_base ? &prior : nullptr);
+        out.pose_ms = static_cast<double>(thread_cpu_ns() - cpu0) * 1e-6;
+        out.pruned = prior_in_base.has_value();
+        out.matches_tried = r.matches_tried;
+        out.cluster_size = r.cluster_size;
+        out.correspondences = r.correspondences;
+        out.rms_reprojection_px = r.rms_reprojection_px;
+        out.found = r.found;
+        out.reason = r.reason;
+        if (r.found) {
+          const Eigen::Isometry3d in_base = camera * r.target_in_camera;
+          for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) out.target_r[3 * i + j] = in_base.linear()(i, j);
+            out.target_t_mm[i] = in_base.translation()[i];
+          }
+          std::lock_guard<std::mutex> lock(mutex);
+          last = std::make_pair(f->utime, in_base);
+        }
+      }
+      (out.found ? found : not_found)++;
+      if (!out.found && not_found % 20 == 1)
+        spdlog::warn("frame {}: no pose: {} ({} so far)", f->frame_index, out.reason,
+                     not_found.load());
+      bus.publish(rambo::channels::kPose, out);
+    });
+
+    runtime.start();
+    spdlog::info("ready: {} triangle pairs, {} model triangles", method,
+                 cell.model.triangles().size());
+    wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    spdlog::info("summary: {} poses, {} without, {} bad messages", found.load(), not_found.load(),
+                 bad.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,142 @@
+// ephor-rambo-predictor: the target's motion from its recent poses (RAMBO
+// paper, section 6, and beyond it: a torque-free rigid body with constant
+// momenta, RigidBodyPosePredictor, fitted to the last --window-s of poses).
+// Publishes the fitted state, from which any later pose follows.
+//
+//   subscribes  RAMBO_POSE (rambo_pose_t)
+//   publishes   RAMBO_PREDICTION (rambo_prediction_t), after every usable pose
+//   tasks       fit (triggered by RAMBO_POSE)
+//
+// Times inside are seconds since the first pose (a fit in absolute epoch
+// seconds would lose precision); messages carry absolute utimes.
+
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <string>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/mailbox.h"
+#include "common/log/log.h"
+#include "common/rambo/rambo_cell.h"
+#include "common/rambo/rambo_channels.h"
+#include "common/rambo/rigid_body_pose_predictor.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/rambo_pose_t.hpp"
+#include "ephor/rambo_prediction_t.hpp"
+
+int main(int argc, char** argv) {
+  using namespace ephor;
+  using namespace ephor::rambo;
+  block_shutdown_signals();
+  CLI::App app{"ephor-rambo-predictor: the tumbling target's motion from its poses"};
+  ProcessArgs args;
+  add_process_flags(app, args, "predictor");
+  double window_s = 4.0, duration_s = 0.0, max_rms_px = 3.0;
+  int min_samples = 5;
+  app.add_option("--window-s", window_s, "fit the poses of this last span, s (default 4)")
+      ->check(CLI::Range(0.5, 120.0));
+  app.add_option("--min-samples", min_samples, "poses needed for a fit (default 5)")
+      ->check(CLI::Range(3, 1000));
+  app.add_option("--max-rms-px", max_rms_px, "drop poses with more reprojection error, px")
+      ->check(CLI::Range(0.1, 100.0));
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const RamboCell cell = RamboCell::make(4);
+    RigidBodyPosePredictor predictor(cell.principal_moments);
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    Mailbox<rambo_pose_t> poses;
+    std::deque<std::pair<int64_t, Eigen::Isometry3d>> window;
+    int64_t epoch_utime = -1;
+    std::atomic<int64_t> fits{0}, failures{0}, dropped{0};
+
+    bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&](const rambo_pose_t& m) {
+      poses.put(m);
+      runtime.trigger("fit");
+    });
+
+    runtime.add_triggered("fit", std::chrono::milliseconds(100), [&] {
+      const auto m = poses.take();
+      if (!m || !m->found) return;
+      Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) p.linear()(i, j) = m->target_r[3 * i + j];
+        p.translation()[i] = m->target_t_mm[i];
+      }
+      const bool orthonormal =
+          (p.linear().transpose() * p.linear() - Eigen::Matrix3d::Identity()).norm() < 1e-6;
+      if (!p.matrix().allFinite() || !orthonormal || !(m->rms_reprojection_px <= max_rms_px) ||
+          (!window.empty() && m->utime <= window.back().first)) {
+        ++dropped;
+        return;
+      }
+      if (epoch_utime < 0) epoch_utime = m->utime;
+      window.emplace_back(m->utime, p);
+      while (!window.empty() &&
+             static_cast<double>(m->utime - window.front().first) * 1e-6 > window_s)
+        window.pop_front();
+      rambo_prediction_t out{};
+      out.utime = wall_us();
+      out.model = predictor.name();
+      out.ref_utime = m->utime;
+      out.samples = static_cast<int32_t>(window.size());
+      if (static_cast<int>(window.size()) < min_samples) {
+        out.reason = "waiting for " + std::to_string(min_samples) + " poses";
+        bus.publish(rambo::channels::kPrediction, out);
+        return;
+      }
+      std::vector<PoseSample> samples;
+      for (const auto& [u, pose] : window)
+        samples.push_back({static_cast<double>(u - epoch_utime) * 1e-6, pose});
+      std::string why;
+      if (!predictor.fit(samples, &why)) {
+        ++failures;
+        out.reason = why;
+        bus.publish(rambo::channels::kPrediction, out);
+        return;
+      }
+      ++fits;
+      const double t_ref = samples.back().t_s;
+      const PosePrediction now = predictor.predict(t_ref);
+      const Eigen::Vector3d v =
+          predictor.predict(t_ref + 1.0).pose.translation() - now.pose.translation();
+      const Eigen::Quaterniond q(now.pose.linear());
+      out.fitted = true;
+      for (int k = 0; k < 3; ++k) {
+        out.position_mm[k] = now.pose.translation()[k];
+        out.velocity_mm_s[k] = v[k];
+        out.body_rates_rad_s[k] = predictor.body_rates_rad_s()[k];
+        out.principal_moments[k] = cell.principal_moments[k];
+      }
+      out.orientation_wxyz[0] = q.w();
+      out.orientation_wxyz[1] = q.x();
+      out.orientation_wxyz[2] = q.y();
+      out.orientation_wxyz[3] = q.z();
+      out.position_sigma_mm = now.position_sigma_mm;
+      out.rotation_sigma_rad = now.rotation_sigma_rad;
+      out.rms_rotation_residual_rad = predictor.rms_rotation_residual_rad();
+      bus.publish(rambo::channels::kPrediction, out);
+    });
+
+    runtime.start();
+    spdlog::info("ready: rigid-body fit over {} s, at least {} poses", window_s, min_samples);
+    wait_for_shutdown_signal(duration_s);
+    runtime.stop();
+    spdlog::info("summary: {} fits, {} failed, {} poses dropped", fits.load(), failures.load(),
+                 dropped.load());
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

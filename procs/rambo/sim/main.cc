@@ -1,0 +1,462 @@
+// ephor-rambo-sim: RAMBO's simulated world in real time (paper 001, section 2):
+// the free-floating target tumbling with constant momenta (TumblingBody), its
+// diodes and indicator electronics (DiodeIndicator), the PUMA 560's servo layer
+// (ArmServo, following ephor-arm's trajectories) with the laser and the camera
+// on its tool plate, the camera's frames (TargetRenderer) and ground truth.
+//
+//   ephor-rambo-sim --seed 1 --diodes 4 --summary out.json
+//
+// Tasks: physics (2 ms: servo and indicator in 1 ms steps; ARM_SERVO every
+// 4 ms), camera (1/fps: CAMERA, RAMBO_TRUTH, RAMBO_FEATURES), indicator (50 ms:
+// RAMBO_INDICATOR). Subscribes ARM_TRAJECTORY, and RAMBO_POSE, RAMBO_PREDICTION,
+// RAMBO_PLAN for the run's summary (scored against the truth it alone has).
+//
+// RAMBO_FEATURES here is an ORACLE, not vision: the visible vertices' true
+// projections plus --noise-px Gaussian noise, as image triples, standing in for
+// the features process (section 4) that does not exist yet. It says so in its
+// `source` field ("oracle").
+//
+// The run ends (exit 0) one second after every diode is tagged, or after
+// --max-s; the summary is written then.
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <opencv2/imgcodecs.hpp>
+#include "common/arm/arm_servo.h"
+#include "common/arm/arm_workcell.h"
+#include "common/arm/servo_messages.h"
+#include "common/config/repo_paths.h"
+#include "common/geometry/workcell_file.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/rambo/diode_indicator.h"
+#include "common/rambo/image_triple.h"
+#include "common/rambo/pose_predictor.h"
+#include "common/rambo/rambo_cell.h"
+#include "common/rambo/rambo_channels.h"
+#include "common/rambo/tagging_planner.h"
+#include "common/rambo/tumbling_body.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/time/clock.h"
+#include "ephor/camera_frame_t.hpp"
+#include "ephor/joint_state_t.hpp"
+#include "ephor/joint_trajectory_t.hpp"
+#include "ephor/rambo_features_t.hpp"
+#include "ephor/rambo_indicator_t.hpp"
+#include "ephor/rambo_plan_t.hpp"
+#include "ephor/rambo_pose_t.hpp"
+#include "ephor/rambo_prediction_t.hpp"
+#include "ephor/rambo_truth_t.hpp"
+
+#include "procs/rambo/sim/target_renderer.h"
+
+namespace {
+
+using namespace ephor;
+using namespace ephor::rambo;
+
+constexpr double kStepS = 0.001;
+constexpr double kMaxLagS = 0.5;
+const double kHorizonsS[] = {0.5, 1.0, 2.0};
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const auto k = static_cast<std::size_t>(
+      std::clamp(p * static_cast<double>(v.size() - 1), 0.0, static_cast<double>(v.size() - 1)));
+  return v[k];
+}
+
+nlohmann::json p50_p99(const std::vector<double>& v) {
+  if (v.empty()) return nullptr;
+  return {{"p50", percentile(v, 0.5)}, {"p99", percentile(v, 0.99)}, {"n", v.size()}};
+}
+
+Eigen::Isometry3d from_message(const double r[9], const double t[3]) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
+    p.translation()[i] = t[i];
+  }
+  return p;
+}
+
+void to_message(const Eigen::Isometry3d& p, double r[9], double t[3]) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) r[3 * i + j] = p.linear()(i, j);
+    t[i] = p.translation()[i];
+  }
+}
+
+struct PendingPrediction {
+  double t_eval_s;
+  int horizon;
+  Eigen::Vector3d predicted_mm;
+};
+
+struct World {
+  std::mutex mutex;
+  RamboCell cell;
+  arm::Puma560 arm;
+  TumblingBody body;
+  DiodeIndicator indicator;
+  sim::ArmServo servo;
+  std::optional<sim::JointTrajectory> pending;
+  double clock_s = 0.0;
+  int64_t wall0_us = 0, mono0_ns = 0;
+  int ticks = 0;
+  int logged_tagged = 0;
+  double all_tagged_s = -1.0;
+  std::atomic<int64_t> frames{0}, refused{0};
+  // Summary material.
+  std::map<int64_t, Eigen::Isometry3d> truth_by_utime;  // frame capture -> target in base
+  std::vector<double> pose_err_mm, pose_err_deg, pose_ms;
+  int64_t poses = 0, poses_found = 0, predictions = 0, bad_messages = 0;
+  std::deque<PendingPrediction> pending_predictions;
+  std::vector<double> prediction_err_mm[3];
+  std::optional<rambo_plan_t> first_order, last_plan;
+
+  World(RamboCell c, const TumblingMotion& m, const arm::JointLimits& limits)
+      : cell(std::move(c)),
+        arm(cell.tool_length_mm, limits),
+        body(m.pose0, m.velocity_mm_s, m.body_rates_rad_s, cell.principal_moments),
+        indicator(cell.diodes, RamboCell::kAcceptanceDeg, RamboCell::kLensRadiusMm,
+                  RamboCell::kRequiredS),
+        servo(limits, cell.start_joints) {}
+
+  int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
+  double t_of(int64_t utime) const { return static_cast<double>(utime - wall0_us) * 1e-6; }
+
+  // One 1 ms step (caller holds the mutex).
+  void step() {
+    if (pending) {
+      servo.follow(*pending);
+      pending.reset();
+    }
+    servo.step(kStepS);
+    clock_s += kStepS;
+    const Eigen::Isometry3d target = body.pose(clock_s);
+    const Eigen::Isometry3d tool = arm.forward(servo.state().q);
+    indicator.step(clock_s, target, tool.translation(), tool.linear().col(2));
+    while (!pending_predictions.empty() && pending_predictions.front().t_eval_s <= clock_s) {
+      const auto& p = pending_predictions.front();
+      prediction_err_mm[p.horizon].push_back((p.predicted_mm - target.translation()).norm());
+      pending_predictions.pop_front();
+    }
+    if (indicator.tagged_count() != logged_tagged) {
+      logged_tagged = indicator.tagged_count();
+      spdlog::info("diode {} tagged at {:.2f} s ({} of {})", indicator.lit_diode(), clock_s,
+                   logged_tagged, indicator.size());
+      if (logged_tagged == indicator.size()) all_tagged_s = clock_s;
+    }
+  }
+
+  nlohmann::json summary(uint64_t seed, double spin_deg_s) const {
+    nlohmann::json j;
+    j["system"] = "rambo";
+    j["seed"] = seed;
+    j["spin_deg_s"] = spin_deg_s;
+    j["diodes"] = indicator.size();
+    j["tagged"] = indicator.tagged_count();
+    j["time_to_all_s"] = all_tagged_s >= 0 ? nlohmann::json(all_tagged_s) : nlohmann::json(nullptr);
+    nlohmann::json tasks = nlohmann::json::array();
+    std::vector<std::pair<double, int>> done;
+    for (int i = 0; i < indicator.size(); ++i)
+      if (indicator.tagged(i)) done.emplace_back(indicator.tagged_at_s(i), i);
+    std::sort(done.begin(), done.end());
+    for (const auto& [t, i] : done)
+      tasks.push_back(
+          {{"diode", i}, {"name", cell.diodes[static_cast<std::size_t>(i)].name}, {"tagged_s", t}});
+    j["tasks"] = tasks;
+    j["diode_acceptance_deg"] = indicator.acceptance_deg();
+    j["diode_lens_radius_mm"] = indicator.lens_radius_mm();
+    j["diode_required_s"] = indicator.required_s();
+    j["poses"] = poses;
+    j["poses_found"] = poses_found;
+    j["pose_error_mm"] = p50_p99(pose_err_mm);
+    j["pose_error_deg"] = p50_p99(pose_err_deg);
+    j["pose_ms"] = p50_p99(pose_ms);
+    j["pose_features_source"] = "oracle: projected vertices + noise, not image features";
+    j["predictions"] = predictions;
+    nlohmann::json pe;
+    for (int h = 0; h < 3; ++h)
+      pe[fmt::format("{:.1f}s", kHorizonsS[h])] = p50_p99(prediction_err_mm[h]);
+    j["prediction_error_mm"] = pe;
+    j["prediction_error_of"] = "the target frame's origin, rigid-body model";
+    if (first_order) {
+      j["reaching_trajectories_computed"] = {{"greedy", first_order->greedy_trajectories},
+                                             {"exhaustive", first_order->exhaustive_trajectories},
+                                             {"dynamic_programming", first_order->dp_trajectories},
+                                             {"tasks", first_order->num_tasks}};
+      j["planned_order"] = first_order->order;
+    } else {
+      j["reaching_trajectories_computed"] = nullptr;
+    }
+    j["goals_sent"] = last_plan ? last_plan->goals_sent : 0;
+    j["frames"] = frames.load();
+    j["trajectories_refused"] = refused.load();
+    j["bad_messages"] = bad_messages;
+    j["deadline_misses"] = nullptr;  // not collected: the scheduler's job stats are not read here
+    j["rt"] = nullptr;
+    j["missing"] = {"deadline_misses", "rt", "features from images (oracle triples)",
+                    "pose_error against the paper's peer (solvePnPRansac) in the same run"};
+    return j;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  block_shutdown_signals();
+  CLI::App app{"ephor-rambo-sim: tumbling target with diodes, PUMA 560 servo, laser and camera"};
+  ProcessArgs args;
+  add_process_flags(app, args, "sim");
+  uint64_t seed = 1;
+  int diodes = 4;
+  double fps = 5.0, noise_px = 0.5, spin_deg_s = 2.0, drift_mm_s = 1.0, max_s = 120.0,
+         duration_s = 0.0;
+  std::string workcell_path = "deploy/rambo/workcell.pbtxt", summary_path, png_path;
+  app.add_option("--seed", seed, "random seed: tumble axis, tilt, drift, noise (default 1)");
+  app.add_option("--diodes", diodes, "diodes on the target, 1-4 (default 4)")
+      ->check(CLI::Range(1, 4));
+  app.add_option("--fps", fps, "camera frames per second (default 5)")
+      ->check(CLI::Range(0.5, 60.0));
+  app.add_option("--noise-px", noise_px, "oracle features: pixel noise sigma (default 0.5)")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--spin-deg-s", spin_deg_s, "target's initial spin rate, deg/s (default 2)")
+      ->check(CLI::Range(0.0, 90.0));
+  app.add_option("--drift-mm-s", drift_mm_s, "largest drift speed of its centre, mm/s (default 1)")
+      ->check(CLI::Range(0.0, 200.0));
+  app.add_option("--max-s", max_s, "end the run after this long, s (default 120)")
+      ->check(CLI::Range(1.0, 36000.0));
+  app.add_option("--workcell", workcell_path, "work cell file (common/geometry/workcell.proto)");
+  app.add_option("--summary", summary_path, "write the run's JSON summary here at the end");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = until the run ends)");
+  app.add_option("--write-png", png_path, "render the first frame to this PNG and exit");
+  CLI11_PARSE(app, argc, argv);
+  init_logging(args.name);
+
+  try {
+    const geometry::Workcell workcell =
+        geometry::load_workcell_file(resolve_repo_path(workcell_path));
+    RamboCell cell = RamboCell::make(diodes);
+    if (std::abs(workcell.tool_length_mm - cell.tool_length_mm) > 1e-6)
+      throw std::invalid_argument(
+          fmt::format("{}: tool_length_mm {} is not the laser's {} mm (common/rambo/rambo_cell.h)",
+                      workcell_path, workcell.tool_length_mm, cell.tool_length_mm));
+    const TumblingMotion motion = cell.draw_motion(seed, spin_deg_s, drift_mm_s);
+    World w(cell, motion, arm::make_puma(workcell).limits());
+    TargetRenderer renderer(cell.model, cell.camera, 3.0, seed);
+    std::mt19937 feature_rng(static_cast<std::uint32_t>(seed * 7919u + 1u));
+    cv::Mat image;
+
+    auto camera_in_base = [&w](const arm::Joints& q) {
+      return w.arm.forward(q) * w.cell.camera_in_tool;
+    };
+    if (!png_path.empty()) {
+      renderer.render(camera_in_base(cell.start_joints).inverse() * w.body.pose(0.0), image);
+      cv::imwrite(png_path, image);
+      spdlog::info("wrote {}", png_path);
+      return 0;
+    }
+
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+
+    bus.subscribe<joint_trajectory_t>(
+        ephor::channels::kArmTrajectory, [&w](const joint_trajectory_t& m) {
+          std::string why;
+          auto t = sim::to_trajectory(m, why);
+          if (!t) {
+            ++w.refused;
+            spdlog::warn("ARM_TRAJECTORY seq {} ignored: {}", m.seq, why);
+            return;
+          }
+          std::lock_guard<std::mutex> lock(w.mutex);
+          w.pending = std::move(*t);
+        });
+    bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&w](const rambo_pose_t& m) {
+      std::lock_guard<std::mutex> lock(w.mutex);
+      ++w.poses;
+      if (!m.found) return;
+      const Eigen::Isometry3d est = from_message(m.target_r, m.target_t_mm);
+      const auto it = w.truth_by_utime.find(m.utime);
+      if (!est.matrix().allFinite() || it == w.truth_by_utime.end() || !std::isfinite(m.pose_ms)) {
+        ++w.bad_messages;
+        return;
+      }
+      ++w.poses_found;
+      w.pose_err_mm.push_back((est.translation() - it->second.translation()).norm());
+      w.pose_err_deg.push_back(rotation_angle_between(est.linear(), it->second.linear()) * 180.0 /
+                               M_PI);
+      w.pose_ms.push_back(m.pose_ms);
+    });
+    bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, [&w](const rambo_prediction_t& m) {
+      if (!m.fitted) return;
+      FittedMotion f;
+      f.t_ref_s = 0.0;
+      f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
+      f.velocity_mm_s = Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
+      f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
+                                         m.orientation_wxyz[2], m.orientation_wxyz[3]);
+      f.body_rates_rad_s =
+          Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
+      f.principal_moments =
+          Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1], m.principal_moments[2]);
+      std::lock_guard<std::mutex> lock(w.mutex);
+      if (!f.finite()) {
+        ++w.bad_messages;
+        return;
+      }
+      ++w.predictions;
+      const double t_ref = w.t_of(m.ref_utime);
+      for (int h = 0; h < 3; ++h)
+        w.pending_predictions.push_back(
+            {t_ref + kHorizonsS[h], h, f.pose(kHorizonsS[h]).translation()});
+      std::sort(w.pending_predictions.begin(), w.pending_predictions.end(),
+                [](const PendingPrediction& a, const PendingPrediction& b) {
+                  return a.t_eval_s < b.t_eval_s;
+                });
+    });
+    bus.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&w](const rambo_plan_t& m) {
+      std::lock_guard<std::mutex> lock(w.mutex);
+      if (!w.first_order && m.num_tasks > 0 && m.dp_trajectories > 0) w.first_order = m;
+      w.last_plan = m;
+    });
+
+    w.wall0_us = wall_us();
+    w.mono0_ns = mono_ns();
+    auto advance_to_now = [&w] {
+      const double now_s = static_cast<double>(mono_ns() - w.mono0_ns) * 1e-9;
+      if (now_s - w.clock_s > kMaxLagS) {
+        spdlog::warn("physics {:.3f} s behind the clock; skipping ahead", now_s - w.clock_s);
+        w.clock_s = now_s - kStepS;
+      }
+      while (w.clock_s + kStepS <= now_s) w.step();
+    };
+
+    runtime.add_periodic("physics", std::chrono::milliseconds(2), [&] {
+      joint_state_t m;
+      {
+        std::lock_guard<std::mutex> lock(w.mutex);
+        advance_to_now();
+        if (++w.ticks % 2 != 0) return;  // ARM_SERVO at 250 Hz
+        m = sim::to_joint_state(w.servo.state(), w.utime_of(w.clock_s));
+      }
+      bus.publish(ephor::channels::kArmServo, m);
+    });
+
+    runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)), [&] {
+      rambo_truth_t truth{};
+      Eigen::Isometry3d target, camera;
+      {
+        std::lock_guard<std::mutex> lock(w.mutex);
+        advance_to_now();
+        target = w.body.pose(w.clock_s);
+        camera = camera_in_base(w.servo.state().q);
+        truth.utime = w.utime_of(w.clock_s);
+        const Eigen::Vector3d rates = w.body.body_rates(w.clock_s);
+        for (int k = 0; k < 3; ++k) truth.body_rates_rad_s[k] = rates[k];
+        w.truth_by_utime[truth.utime] = target;
+        while (w.truth_by_utime.size() > 600) w.truth_by_utime.erase(w.truth_by_utime.begin());
+      }
+      const Eigen::Isometry3d in_camera = camera.inverse() * target;
+      renderer.render(in_camera, image);
+      camera_frame_t frame;
+      frame.utime = truth.utime;
+      frame.frame_index = w.frames;
+      frame.width = image.cols;
+      frame.height = image.rows;
+      frame.data.assign(image.data, image.data + image.total());
+      frame.size = static_cast<int32_t>(frame.data.size());
+      bus.publish(ephor::channels::kCamera, frame);
+      truth.frame_index = frame.frame_index;
+      to_message(target, truth.target_r, truth.target_t_mm);
+      to_message(camera, truth.camera_r, truth.camera_t_mm);
+      bus.publish(rambo::channels::kTruth, truth);
+      // The oracle features (see the top of this file).
+      rambo_features_t f;
+      f.utime = truth.utime;
+      f.frame_index = frame.frame_index;
+      f.source = "oracle";
+      f.noise_px = noise_px;
+      for (const ImageTriple& t :
+           synthetic_image_triples(w.cell.model, w.cell.camera, in_camera, noise_px, &feature_rng))
+        f.triples_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(), t.a_px.y(),
+                                t.b_px.x(), t.b_px.y()});
+      f.num_triples = static_cast<int32_t>(f.triples_px.size());
+      bus.publish(rambo::channels::kFeatures, f);
+      ++w.frames;
+    });
+
+    std::atomic<bool> finished{false};
+    runtime.add_periodic("indicator", std::chrono::milliseconds(50), [&] {
+      rambo_indicator_t m{};
+      {
+        std::lock_guard<std::mutex> lock(w.mutex);
+        advance_to_now();
+        const DiodeIndicator& ind = w.indicator;
+        m.utime = w.utime_of(w.clock_s);
+        m.num_diodes = ind.size();
+        m.lit_diode = ind.lit_diode();
+        m.lit_s = ind.lit_s();
+        m.tagged_count = ind.tagged_count();
+        m.acceptance_deg = ind.acceptance_deg();
+        m.lens_radius_mm = ind.lens_radius_mm();
+        m.required_s = ind.required_s();
+        for (int i = 0; i < ind.size(); ++i) {
+          m.tagged.push_back(ind.tagged(i));
+          m.tagged_utime.push_back(
+              ind.tagged(i) ? static_cast<double>(w.utime_of(ind.tagged_at_s(i))) : 0.0);
+          m.beam_angle_deg.push_back(ind.readings()[static_cast<std::size_t>(i)].beam_angle_deg);
+          m.beam_offset_mm.push_back(
+              std::min(ind.readings()[static_cast<std::size_t>(i)].beam_offset_mm, 1e6));
+        }
+        if ((w.all_tagged_s >= 0 && w.clock_s > w.all_tagged_s + 1.0) || w.clock_s > max_s)
+          finished = true;
+      }
+      bus.publish(rambo::channels::kIndicator, m);
+    });
+
+    runtime.start();
+    spdlog::info(
+        "running: seed {}, {} diodes (acceptance {} deg, lens radius {} mm, {} s lit), spin {} "
+        "deg/s, {} fps, oracle features with {} px noise",
+        seed, diodes, RamboCell::kAcceptanceDeg, RamboCell::kLensRadiusMm, RamboCell::kRequiredS,
+        spin_deg_s, fps, noise_px);
+    const auto t_end =
+        duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+    while (!finished && mono_ns() < t_end) {
+      if (wait_for_shutdown_signal(0.05) != 0) break;
+    }
+    runtime.stop();
+    std::lock_guard<std::mutex> lock(w.mutex);
+    const nlohmann::json s = w.summary(seed, spin_deg_s);
+    spdlog::info("summary: {}", s.dump());
+    if (!summary_path.empty()) {
+      std::ofstream out(summary_path);
+      out << s.dump(2) << "\n";
+      if (!out) spdlog::error("could not write the summary to {}", summary_path);
+    }
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}
