@@ -1,0 +1,135 @@
+// Replay of a recorded catch (issue 14, the design card's replay-based
+// testing), in a private network namespace, with the tools a user has:
+//  1. a headless run of deploy/catch.pbtxt (one ball, seed 2) recorded by the
+//     launcher's `--record` (lcm-logger);
+//  2. a fresh ephor-catch-worldmodel is started and `lcm-logplayer` plays the
+//     log's world-model inputs to it (CATCH_BOARD_POSE, CATCH_SURVEY,
+//     CATCH_BALL); its outputs are heard.
+// Every CATCH_WORLD of the live run must come back byte-identical from the
+// replay (matched by the frame's capture time), except the fields that say
+// when it was made, not what: header.utime, header.seq and latency_ms.
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include "common/catch/catch_channels.h"
+#include "common/lcm/bus.h"
+#include "ephor/catch_world_t.hpp"
+#include "tests/integration/harness.h"
+
+namespace ephor::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::seconds;
+
+// The manifest's port (deploy/catch.pbtxt), private to this namespace.
+constexpr const char* kUrl = "udpm://239.255.76.67:7668?ttl=0&recv_buf_size=16777216";
+
+std::vector<uint8_t> what_not_when(catch_world_t m) {
+  m.header.utime = 0;
+  m.header.seq = 0;
+  m.latency_ms = 0.0F;
+  std::vector<uint8_t> bytes(static_cast<size_t>(m.getEncodedSize()));
+  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+bool exited(const Processes& p, const std::string& name) {
+  for (const auto& e : p.exits())
+    if (e.name == name) return true;
+  return false;
+}
+
+TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("ephor-catch-replay-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string log_path = (dir / "run.lcm").string();
+
+  // 1. The live run, recorded.
+  {
+    Processes p;
+    p.start("launch", bin("ephor-launch"),
+            {source_path("deploy/catch.pbtxt"), "--headless", "--duration", "40", "--balls", "1",
+             "--seed", "2", "--record", log_path});
+    ASSERT_TRUE(wait_until([&] { return exited(p, "launch"); }, seconds(60)));
+    ASSERT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
+  }
+  std::map<int64_t, catch_world_t> live;
+  int balls = 0;
+  {
+    lcm::LogFile log(log_path, "r");
+    ASSERT_TRUE(log.good()) << log_path;
+    while (const lcm::LogEvent* e = log.readNextEvent()) {
+      if (e->channel == catching::channels::kBall) ++balls;
+      if (e->channel != catching::channels::kWorld) continue;
+      catch_world_t m;
+      if (m.decode(e->data, 0, static_cast<int>(e->datalen)) == static_cast<int>(e->datalen))
+        live[m.utime] = m;
+    }
+  }
+  ASSERT_GE(balls, 60) << "CATCH_BALL messages in the log (one per frame)";
+  int tracking = 0;
+  for (const auto& [utime, m] : live) tracking += m.status == catch_world_t::STATUS_TRACKING;
+  ASSERT_GE(tracking, 10) << "the live run never tracked the ball";
+
+  // 2. The log's world-model inputs through a fresh world model.
+  std::map<int64_t, catch_world_t> replayed;
+  {
+    const std::vector<std::pair<std::string, std::string>> env{{"LCM_DEFAULT_URL", kUrl}};
+    std::mutex mutex;
+    Bus bus(kUrl, "replay-test");
+    bus.subscribe<catch_world_t>(catching::channels::kWorld, [&](const catch_world_t& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      replayed[m.utime] = m;
+    });
+    bus.start();
+    Processes p;
+    p.start("worldmodel", bin("ephor-catch-worldmodel"),
+            {"--no-mlock", "--name", "worldmodel", "--board", "deploy/catch/board.pbtxt",
+             "--camera", "deploy/catch/camera.pbtxt"},
+            env);
+    ASSERT_TRUE(wait_until([&] { return p.has_line("worldmodel", "ready:"); }, seconds(10)));
+    p.start("player", "/usr/bin/lcm-logplayer",
+            {"--lcm-url", kUrl, "--regexp", "CATCH_BOARD_POSE|CATCH_SURVEY|CATCH_BALL", log_path},
+            env);
+    EXPECT_TRUE(wait_until([&] { return exited(p, "player"); }, seconds(60)));
+    const auto all_back = [&] {
+      std::lock_guard<std::mutex> lock(mutex);
+      return replayed.size() >= live.size();
+    };
+    EXPECT_TRUE(wait_until(all_back, seconds(5)))
+        << "the replay gave " << replayed.size() << " of " << live.size() << " outputs back";
+    bus.stop();
+  }
+
+  int compared = 0, differing = 0;
+  for (const auto& [utime, m] : live) {
+    const auto it = replayed.find(utime);
+    if (it == replayed.end()) continue;
+    ++compared;
+    if (what_not_when(m) != what_not_when(it->second)) {
+      if (++differing <= 5) {
+        ADD_FAILURE() << "frame " << m.frame_index << ": live status " << int{m.status} << " ("
+                      << m.position_b_mm[0] << ", " << m.position_b_mm[1] << ") vs replay status "
+                      << int{it->second.status} << " (" << it->second.position_b_mm[0] << ", "
+                      << it->second.position_b_mm[1] << ")";
+      }
+    }
+  }
+  EXPECT_EQ(compared, static_cast<int>(live.size())) << "live outputs missing from the replay";
+  EXPECT_EQ(differing, 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ephor::testing
