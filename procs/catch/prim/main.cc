@@ -12,6 +12,7 @@
 //   publishes   ARM_GOAL (arm_goal_t, KIND_POSE)
 //   tasks       plan (triggered by CATCH_WORLD: always the newest one)
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <mutex>
@@ -52,14 +53,15 @@ namespace {
 // arm moving in view while the next ball is released hides that ball from
 // the vision (measured: 4 of 10 balls of seed 2 never tracked with 500 ms).
 ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
-                                          double commit_ahead_s, double reaim_ms, double hold_ms) {
+                                          double commit_ahead_s, double reaim_ms, double hold_ms,
+                                          double resend_mm) {
   p.hold_after_catch_us = static_cast<int64_t>(hold_ms * 1e3);
   p.max_sigma_mm = 150.0;
   p.commit_ahead_s = commit_ahead_s;
   p.min_interval_us = static_cast<int64_t>(reaim_ms * 1e3);
-  p.resend_min_mm = 15.0;
+  p.resend_min_mm = resend_mm;
   p.resend_sigma_fraction = 0.5;
-  p.refresh_min_mm = 5.0;
+  p.refresh_min_mm = std::min(5.0, resend_mm);
   p.refresh_period_us = 200'000;
   return p;
 }
@@ -74,7 +76,8 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
-  double duration_s = 0.0, commit_ahead_s = 0.6, reaim_ms = 250.0, hold_ms = 150.0;
+  double duration_s = 0.0, commit_ahead_s = 0.6, reaim_ms = 250.0, hold_ms = 150.0,
+         resend_mm = 15.0;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--commit-ahead-s", commit_ahead_s,
                  "chase a predicted catch only when it is at most this far ahead, s (the cup "
@@ -84,6 +87,10 @@ int main(int argc, char** argv) {
          "--reaim-ms", reaim_ms,
          "at most one new goal per this many ms (each makes the arm plan anew; default 250)")
       ->check(CLI::Range(10.0, 10000.0));
+  app.add_option("--resend-mm", resend_mm,
+                 "re-aim when the predicted catch point moved by more than this (or half its "
+                 "sigma), mm (default 15)")
+      ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--hold-ms", hold_ms,
                  "after a ball, hold the cup this many ms past the predicted catch before going "
                  "back to the ready point (default 150)")
@@ -116,7 +123,7 @@ int main(int argc, char** argv) {
       if (!planner) {
         planner.emplace(board, *placement,
                         tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s,
-                              reaim_ms, hold_ms));
+                              reaim_ms, hold_ms, resend_mm));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
