@@ -51,13 +51,17 @@ RamboCell RamboCell::make(int diode_count) {
       TargetModel(box.vertices(), box.faces(), goals), all,
       Eigen::Vector3d(kSy * kSy + kSz * kSz, kSx * kSx + kSz * kSz, kSx * kSx + kSy * kSy) / 12.0,
       CameraIntrinsics{}};
-  c.camera.fx_px = c.camera.fy_px = 500.0;  // 65 deg across 640 px
+  c.camera.fx_px = c.camera.fy_px = 380.0;  // 80 deg across 640 px: the whole target at 200 mm
   // The camera 60 mm beside the laser on the tool plate, looking along the beam.
   c.camera_in_tool.translation() = Eigen::Vector3d(0.0, -60.0, -40.0);
-  // Start: the tool 340 mm in front of the target's centre, beam along +x.
+  // Start: the tool 360 mm from the target's centre, aimed at it from above
+  // and aside, so that the beam is on no diode (22 deg and 57 mm off the
+  // front one) until the planner moves it there.
   const arm::Puma560 arm(c.tool_length_mm);
-  const auto q = arm.nearest_inverse(beam_pose({560.0, 0.0, 100.0}, Eigen::Vector3d::UnitX()),
-                                     arm::Joints::Zero());
+  const Eigen::Vector3d start_tip(560.0, -100.0, 200.0);
+  const auto q = arm.nearest_inverse(
+      beam_pose(start_tip, (Eigen::Vector3d(900.0, 0.0, 100.0) - start_tip).normalized()),
+      arm::Joints::Zero());
   if (!q) throw std::logic_error("RamboCell: the start pose is out of the PUMA's reach");
   c.start_joints = *q;
   return c;

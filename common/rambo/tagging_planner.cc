@@ -90,9 +90,10 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
     s.exhaustive_trajectories = e.reaching_trajectories;
     s.dp_trajectories = d.reaching_trajectories;
     s.order_total_s = d.total_time_s;
-    for (int k : d.order) s.order.push_back(open[static_cast<std::size_t>(k)]);
-    // DP needs every task reachable; when it is not, greedy's first feasible move.
-    const std::vector<int>& first = !d.order.empty() ? d.order : g.order;
+    // DP orders all tasks or none; when no order reaches them all, greedy's
+    // (as far as it gets) is followed.
+    const std::vector<int>& first = d.feasible && !d.order.empty() ? d.order : g.order;
+    for (int k : first) s.order.push_back(open[static_cast<std::size_t>(k)]);
     task_ = first.empty() ? -1 : open[static_cast<std::size_t>(first.front())];
     last_order_ = s;
   } else {

@@ -22,6 +22,10 @@ TEST(RamboCell, GoalsPutTheBeamIntoTheLensesAndAreReachableAtRest) {
     EXPECT_NEAR(r.beam_angle_deg, 0.0, 1e-6);
     EXPECT_NEAR(r.beam_offset_mm, 0.0, 1e-6);
   }
+  // The start pose lights no diode: tagging is the planner's work.
+  const Eigen::Isometry3d start = arm.forward(cell.start_joints);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_FALSE(ind.read(i, m.pose0, start.translation(), start.linear().col(2)).lit) << i;
   EXPECT_THROW(RamboCell::make(0), std::invalid_argument);
   EXPECT_THROW(RamboCell::make(5), std::invalid_argument);
 }

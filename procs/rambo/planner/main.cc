@@ -46,8 +46,9 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "planner");
   int diodes = 4;
-  double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 1.5;
+  double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 3.0;
   TaggingOptions options;
+  double arrive_rad = 0.03, resend_rad = 0.1;
   app.add_option("--diodes", diodes, "diodes on the target, 1-4 (default 4)")
       ->check(CLI::Range(1, 4));
   app.add_option("--period-ms", period_ms, "planning period, ms (default 200)")
@@ -55,8 +56,12 @@ int main(int argc, char** argv) {
   app.add_option("--lead-s", options.lead_s, "aim at the goal this far ahead, s (default 0.3)")
       ->check(CLI::Range(0.0, 5.0));
   app.add_option("--max-prediction-age-s", max_prediction_age_s,
-                 "no goals from a prediction older than this, s (default 1.5)")
+                 "no goals from a prediction older than this, s (default 3)")
       ->check(CLI::Range(0.1, 60.0));
+  app.add_option("--arrive-rad", arrive_rad,
+                 "the arm is at its goal within this, rad: refresh the goal every period (0.03)");
+  app.add_option("--resend-rad", resend_rad,
+                 "before that, send again only when the goal moved this far, rad (0.1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
@@ -73,31 +78,35 @@ int main(int argc, char** argv) {
     std::vector<bool> tagged(static_cast<std::size_t>(diodes), false);
     std::atomic<int64_t> goals{0}, bad{0};
     const int64_t run_id = wall_us();
-    int last_task = -2;
+    int last_task = -2, sent_task = -2;
+    std::optional<arm::Joints> sent_goal;
     std::string last_status;
+    std::vector<int> logged_order{-1};
 
-    bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
-      if (!m.fitted) return;
-      FittedMotion f;
-      f.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
-      f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-      f.velocity_mm_s = Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
-      f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
-                                         m.orientation_wxyz[2], m.orientation_wxyz[3]);
-      f.body_rates_rad_s =
-          Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
-      f.principal_moments =
-          Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1], m.principal_moments[2]);
-      if (!f.finite()) {
-        ++bad;
-        spdlog::warn("RAMBO_PREDICTION from {} ignored: not finite", m.header.sender);
-        return;
-      }
-      f.orientation.normalize();
-      std::lock_guard<std::mutex> lock(mutex);
-      motion = f;
-      motion_utime = m.ref_utime;
-    });
+    bus.subscribe<rambo_prediction_t>(
+        rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
+          if (!m.fitted) return;
+          FittedMotion f;
+          f.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
+          f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
+          f.velocity_mm_s =
+              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
+          f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
+                                             m.orientation_wxyz[2], m.orientation_wxyz[3]);
+          f.body_rates_rad_s =
+              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
+          f.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
+                                                m.principal_moments[2]);
+          if (!f.finite()) {
+            ++bad;
+            spdlog::warn("RAMBO_PREDICTION from {} ignored: not finite", m.header.sender);
+            return;
+          }
+          f.orientation.normalize();
+          std::lock_guard<std::mutex> lock(mutex);
+          motion = f;
+          motion_utime = m.ref_utime;
+        });
     bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {
       if (m.num_diodes != diodes || static_cast<int>(m.tagged.size()) != diodes) {
         ++bad;
@@ -141,11 +150,12 @@ int main(int argc, char** argv) {
               plan.order_total_s = std::isfinite(s.order_total_s) ? s.order_total_s : -1.0;
               goal = s.goal_q;
               source_utime = motion_utime;
-              if (s.reordered) {
+              if (s.reordered && s.order != logged_order) {
+                logged_order = s.order;
                 std::string order;
                 for (int i : s.order) order += " " + cell.diodes[static_cast<std::size_t>(i)].name;
                 spdlog::info(
-                    "order (DP):{}; reaching trajectories computed: greedy {}, exhaustive {}, "
+                    "order:{}; reaching trajectories computed: greedy {}, exhaustive {}, "
                     "DP {}",
                     order, s.greedy_trajectories, s.exhaustive_trajectories, s.dp_trajectories);
               }
@@ -157,6 +167,23 @@ int main(int argc, char** argv) {
             }
           }
           plan.num_tasks = static_cast<int32_t>(plan.order.size());
+          // Each goal makes the arm plan anew from rest: while it is still
+          // on its way, a goal that has barely moved is not sent again (it
+          // would only slow the reach down); once the arm is there, the goal
+          // is refreshed every period so that the laser follows the diode.
+          if (goal) {
+            std::lock_guard<std::mutex> lock(mutex);
+            const bool arrived =
+                sent_goal && q_now && (*q_now - *sent_goal).cwiseAbs().maxCoeff() < arrive_rad;
+            const bool moved =
+                !sent_goal || (*goal - *sent_goal).cwiseAbs().maxCoeff() > resend_rad;
+            if (plan.current_task != sent_task || arrived || moved) {
+              sent_goal = goal;
+              sent_task = plan.current_task;
+            } else {
+              goal.reset();
+            }
+          }
           if (goal) {
             arm_goal_t g{};
             g.utime = wall_us();

@@ -3,9 +3,11 @@
 // poses; TrianglePoseEstimator), moved to the base frame with the camera's
 // pose at the frame's capture time (section 6: the arm's joints from
 // ARM_STATE, interpolated to the capture time, and the camera's mount on the
-// tool plate).
+// tool plate). Section 5's pruning uses a prior: the predictor's motion at
+// the frame's time when it is fresh, else the last pose found.
 //
-//   subscribes  RAMBO_FEATURES (rambo_features_t), ARM_STATE (arm_state_t)
+//   subscribes  RAMBO_FEATURES (rambo_features_t), ARM_STATE (arm_state_t),
+//               RAMBO_PREDICTION (rambo_prediction_t: the prior)
 //   publishes   RAMBO_POSE (rambo_pose_t), one per features message
 //   tasks       pose (triggered by RAMBO_FEATURES: always the newest)
 //
@@ -28,6 +30,7 @@
 #include "common/log/log.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
+#include "common/rambo/tagging_planner.h"
 #include "common/rambo/triangle_pose_estimator.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
@@ -35,6 +38,7 @@
 #include "ephor/arm_state_t.hpp"
 #include "ephor/rambo_features_t.hpp"
 #include "ephor/rambo_pose_t.hpp"
+#include "ephor/rambo_prediction_t.hpp"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -67,7 +71,27 @@ int main(int argc, char** argv) {
     std::deque<std::pair<int64_t, arm::Joints>> joints;  // ARM_STATE history, utime -> q
     Mailbox<rambo_features_t> features;
     std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
+    std::optional<FittedMotion> motion;                         // the predictor's newest fit
     std::atomic<int64_t> found{0}, not_found{0}, bad{0};
+    bus.subscribe<rambo_prediction_t>(
+        rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
+          if (!m.fitted) return;
+          FittedMotion fm;
+          fm.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
+          fm.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
+          fm.velocity_mm_s =
+              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
+          fm.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
+                                              m.orientation_wxyz[2], m.orientation_wxyz[3]);
+          fm.body_rates_rad_s =
+              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
+          fm.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
+                                                 m.principal_moments[2]);
+          if (!fm.finite()) return;  // the planner names bad predictions
+          fm.orientation.normalize();
+          std::lock_guard<std::mutex> lock(mutex);
+          motion = fm;
+        });
 
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
       arm::Joints q;
@@ -123,13 +147,19 @@ int main(int argc, char** argv) {
       {
         std::lock_guard<std::mutex> lock(mutex);
         q = joints_at(f->utime);
-        if (last && prior_max_age_s > 0 &&
-            static_cast<double>(f->utime - last->first) * 1e-6 <= prior_max_age_s)
+        const double t_frame = static_cast<double>(f->utime) * 1e-6;
+        if (motion && prior_max_age_s > 0 && t_frame - motion->t_ref_s <= 2.0 * prior_max_age_s &&
+            t_frame >= motion->t_ref_s)
+          prior_in_base = motion->pose(t_frame);
+        else if (last && prior_max_age_s > 0 &&
+                 static_cast<double>(f->utime - last->first) * 1e-6 <= prior_max_age_s)
           prior_in_base = last->second;
       }
       if (!finite) {
         ++bad;
         out.reason = "features message malformed (sizes or non-finite pixels)";
+        spdlog::warn("RAMBO_FEATURES frame {} from {} refused: {} ({} so far)", f->frame_index,
+                     f->header.sender, out.reason, bad.load());
       } else if (!q) {
         out.reason = "no arm state at the frame's capture time (camera pose unknown)";
       } else if (triples.empty()) {

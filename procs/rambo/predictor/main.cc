@@ -39,13 +39,17 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "predictor");
   double window_s = 4.0, duration_s = 0.0, max_rms_px = 3.0;
-  int min_samples = 5;
+  int min_samples = 5, outliers_in_row = 0;
+  bool fit_valid = false;  // the predictor's fit is of the poses in the window
+  double max_jump_mm = 40.0, max_jump_deg = 15.0;
   app.add_option("--window-s", window_s, "fit the poses of this last span, s (default 4)")
       ->check(CLI::Range(0.5, 120.0));
   app.add_option("--min-samples", min_samples, "poses needed for a fit (default 5)")
       ->check(CLI::Range(3, 1000));
   app.add_option("--max-rms-px", max_rms_px, "drop poses with more reprojection error, px")
       ->check(CLI::Range(0.1, 100.0));
+  app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
+  app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
   init_logging(args.name);
@@ -81,6 +85,26 @@ int main(int argc, char** argv) {
         return;
       }
       if (epoch_utime < 0) epoch_utime = m->utime;
+      // A pose far from the fitted motion is a wrong cluster (a near-symmetric
+      // view): dropped, unless three in a row disagree (then the fit is the
+      // one that is wrong and starts again).
+      if (fit_valid && !window.empty()) {
+        const PosePrediction expected =
+            predictor.predict(static_cast<double>(m->utime - epoch_utime) * 1e-6);
+        const bool outlier = (expected.pose.translation() - p.translation()).norm() > max_jump_mm ||
+                             rotation_angle_between(expected.pose.linear(), p.linear()) >
+                                 max_jump_deg * M_PI / 180.0;
+        if (outlier && ++outliers_in_row < 3) {
+          ++dropped;
+          return;
+        }
+        if (outlier) {
+          spdlog::warn("three poses in a row off the fitted motion: fitting afresh");
+          window.clear();
+          fit_valid = false;
+        }
+        outliers_in_row = 0;
+      }
       window.emplace_back(m->utime, p);
       while (!window.empty() &&
              static_cast<double>(m->utime - window.front().first) * 1e-6 > window_s)
@@ -101,11 +125,13 @@ int main(int argc, char** argv) {
       std::string why;
       if (!predictor.fit(samples, &why)) {
         ++failures;
+        fit_valid = false;
         out.reason = why;
         bus.publish(rambo::channels::kPrediction, out);
         return;
       }
       ++fits;
+      fit_valid = true;
       const double t_ref = samples.back().t_s;
       const PosePrediction now = predictor.predict(t_ref);
       const Eigen::Vector3d v =

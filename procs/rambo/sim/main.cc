@@ -307,36 +307,38 @@ int main(int argc, char** argv) {
                                M_PI);
       w.pose_ms.push_back(m.pose_ms);
     });
-    bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, [&w](const rambo_prediction_t& m) {
-      if (!m.fitted) return;
-      FittedMotion f;
-      f.t_ref_s = 0.0;
-      f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-      f.velocity_mm_s = Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
-      f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
-                                         m.orientation_wxyz[2], m.orientation_wxyz[3]);
-      f.body_rates_rad_s =
-          Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
-      f.principal_moments =
-          Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1], m.principal_moments[2]);
-      std::lock_guard<std::mutex> lock(w.mutex);
-      if (!f.finite()) {
-        ++w.bad_messages;
-        return;
-      }
-      ++w.predictions;
-      const double t_ref = w.t_of(m.ref_utime);
-      for (int h = 0; h < 3; ++h)
-        w.pending_predictions.push_back(
-            {t_ref + kHorizonsS[h], h, f.pose(kHorizonsS[h]).translation()});
-      std::sort(w.pending_predictions.begin(), w.pending_predictions.end(),
-                [](const PendingPrediction& a, const PendingPrediction& b) {
-                  return a.t_eval_s < b.t_eval_s;
-                });
-    });
+    bus.subscribe<rambo_prediction_t>(
+        rambo::channels::kPrediction, [&w](const rambo_prediction_t& m) {
+          if (!m.fitted) return;
+          FittedMotion f;
+          f.t_ref_s = 0.0;
+          f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
+          f.velocity_mm_s =
+              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
+          f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
+                                             m.orientation_wxyz[2], m.orientation_wxyz[3]);
+          f.body_rates_rad_s =
+              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
+          f.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
+                                                m.principal_moments[2]);
+          std::lock_guard<std::mutex> lock(w.mutex);
+          if (!f.finite()) {
+            ++w.bad_messages;
+            return;
+          }
+          ++w.predictions;
+          const double t_ref = w.t_of(m.ref_utime);
+          for (int h = 0; h < 3; ++h)
+            w.pending_predictions.push_back(
+                {t_ref + kHorizonsS[h], h, f.pose(kHorizonsS[h]).translation()});
+          std::sort(w.pending_predictions.begin(), w.pending_predictions.end(),
+                    [](const PendingPrediction& a, const PendingPrediction& b) {
+                      return a.t_eval_s < b.t_eval_s;
+                    });
+        });
     bus.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&w](const rambo_plan_t& m) {
       std::lock_guard<std::mutex> lock(w.mutex);
-      if (!w.first_order && m.num_tasks > 0 && m.dp_trajectories > 0) w.first_order = m;
+      if (!w.first_order && m.dp_trajectories > 0) w.first_order = m;
       w.last_plan = m;
     });
 
@@ -406,6 +408,7 @@ int main(int argc, char** argv) {
     });
 
     std::atomic<bool> finished{false};
+    int64_t indicator_ticks = 0;
     runtime.add_periodic("indicator", std::chrono::milliseconds(50), [&] {
       rambo_indicator_t m{};
       {
@@ -427,6 +430,15 @@ int main(int argc, char** argv) {
           m.beam_angle_deg.push_back(ind.readings()[static_cast<std::size_t>(i)].beam_angle_deg);
           m.beam_offset_mm.push_back(
               std::min(ind.readings()[static_cast<std::size_t>(i)].beam_offset_mm, 1e6));
+        }
+        if (++indicator_ticks % 100 == 0) {  // every 5 s: how close the beam is to each diode
+          std::string line;
+          for (int i = 0; i < ind.size(); ++i)
+            line += fmt::format(
+                " {} {:.1f} deg {:.0f} mm{};", w.cell.diodes[static_cast<std::size_t>(i)].name,
+                m.beam_angle_deg[static_cast<std::size_t>(i)],
+                m.beam_offset_mm[static_cast<std::size_t>(i)], ind.tagged(i) ? " (tagged)" : "");
+          spdlog::info("beam at {:.0f} s:{}", w.clock_s, line);
         }
         if ((w.all_tagged_s >= 0 && w.clock_s > w.all_tagged_s + 1.0) || w.clock_s > max_s)
           finished = true;
