@@ -24,6 +24,8 @@ constexpr double kLateLeadS = 0.5;
 void classify_miss(const BallTrack& track, double tolerance_mm, double late_lead_s,
                    BallOutcome& outcome) {
   outcome.first_tracked_y_mm = track.first_tracked_y_mm;
+  outcome.strayed_at_y_mm = track.strayed_at_y_mm;
+  outcome.max_track_error_mm = track.max_track_error_mm;
   if (track.predictions.empty() || !std::isfinite(track.true_exit_x_b_mm)) {
     outcome.kind = "not tracked";
     return;
@@ -84,28 +86,36 @@ void CatchSummary::on_world(int64_t capture_utime, double latency_ms,
   if (it != truth_by_utime_.end()) position_error_mm_.add((*position_b_mm - it->second).norm());
 }
 
-void CatchSummary::on_ball_truth(int64_t utime, int ball, bool rolling, double ball_y_b_mm,
-                                 double true_exit_x_b_mm, int64_t true_exit_utime) {
+void CatchSummary::on_ball_truth(int64_t utime, int ball, bool rolling,
+                                 const Eigen::Vector2d& ball_b_mm, double true_exit_x_b_mm,
+                                 int64_t true_exit_utime) {
   if (!rolling || ball < 0 || ball <= last_ball_) return;
   BallTrack& t = tracks_[ball];
   t.ball = ball;
   t.true_exit_x_b_mm = true_exit_x_b_mm;
   t.true_exit_utime = true_exit_utime;
-  rolling_ball_by_utime_[utime] = {ball, ball_y_b_mm};
+  rolling_ball_by_utime_[utime] = {ball, ball_b_mm};
   while (rolling_ball_by_utime_.size() > 120)
     rolling_ball_by_utime_.erase(rolling_ball_by_utime_.begin());
 }
 
 void CatchSummary::on_prediction(int64_t capture_utime, bool tracking, bool has_prediction,
-                                 double exit_x_b_mm) {
+                                 double exit_x_b_mm,
+                                 const std::optional<Eigen::Vector2d>& position_b_mm) {
   const auto it = rolling_ball_by_utime_.find(capture_utime);
   if (it == rolling_ball_by_utime_.end()) return;  // no ball rolled in that frame
   const auto t = tracks_.find(it->second.first);
   if (t == tracks_.end()) return;
-  if (tracking && !std::isfinite(t->second.first_tracked_y_mm))
-    t->second.first_tracked_y_mm = it->second.second;
+  BallTrack& track = t->second;
+  const Eigen::Vector2d& truth = it->second.second;
+  if (tracking && !std::isfinite(track.first_tracked_y_mm)) track.first_tracked_y_mm = truth.y();
+  if (tracking && position_b_mm) {
+    const double e = (*position_b_mm - truth).norm();
+    if (!(track.max_track_error_mm >= e)) track.max_track_error_mm = e;
+    if (e > 50.0 && !std::isfinite(track.strayed_at_y_mm)) track.strayed_at_y_mm = truth.y();
+  }
   if (has_prediction && std::isfinite(exit_x_b_mm))
-    t->second.predictions.emplace_back(capture_utime, exit_x_b_mm);
+    track.predictions.emplace_back(capture_utime, exit_x_b_mm);
 }
 
 void CatchSummary::on_board_pose(const Eigen::Isometry3d& board_to_camera) {
@@ -161,7 +171,9 @@ nlohmann::json CatchSummary::to_json() const {
                         {"kind", o.kind},
                         {"prediction_error_mm", number(o.prediction_error_mm)},
                         {"lead_s", number(o.lead_s)},
-                        {"first_tracked_y_mm", number(o.first_tracked_y_mm)}});
+                        {"first_tracked_y_mm", number(o.first_tracked_y_mm)},
+                        {"strayed_at_y_mm", number(o.strayed_at_y_mm)},
+                        {"max_track_error_mm", number(o.max_track_error_mm)}});
       ++kinds[o.kind];
       if (o.oracle_reachable) ++reachable_kinds[o.kind];
     }

@@ -34,6 +34,10 @@ struct BallOutcome {
   double prediction_error_mm = std::nan("");  // the last prediction's exit x error, B
   double lead_s = std::nan("");              // how long before the true exit the prediction settled
   double first_tracked_y_mm = std::nan("");  // where on the board the track began (truth, B)
+  // Where the world model's tracked position first strayed by more than
+  // 50 mm from the truth (truth y, B; NaN = never), and the largest error.
+  double strayed_at_y_mm = std::nan("");
+  double max_track_error_mm = std::nan("");
 };
 
 // What the monitor saw of one ball while it rolled: the simulator's exit
@@ -43,6 +47,8 @@ struct BallTrack {
   double true_exit_x_b_mm = std::nan("");
   int64_t true_exit_utime = 0;
   double first_tracked_y_mm = std::nan("");
+  double strayed_at_y_mm = std::nan("");
+  double max_track_error_mm = std::nan("");
   // (capture utime, predicted exit x in B) of every output with a prediction
   // made while the ball rolled.
   std::vector<std::pair<int64_t, double>> predictions;
@@ -76,9 +82,11 @@ class CatchSummary {
   // The ball of one truth frame (index, on the board or not, its true exit)
   // and the world model's prediction of the same capture time (has_prediction
   // false when none): feeds the per-ball miss classification.
-  void on_ball_truth(int64_t utime, int ball, bool rolling, double ball_y_b_mm,
+  void on_ball_truth(int64_t utime, int ball, bool rolling, const Eigen::Vector2d& ball_b_mm,
                      double true_exit_x_b_mm, int64_t true_exit_utime);
-  void on_prediction(int64_t capture_utime, bool tracking, bool has_prediction, double exit_x_b_mm);
+  // position_b_mm: the tracked ball (when tracking), scored against the truth.
+  void on_prediction(int64_t capture_utime, bool tracking, bool has_prediction, double exit_x_b_mm,
+                     const std::optional<Eigen::Vector2d>& position_b_mm = std::nullopt);
   void on_board_pose(const Eigen::Isometry3d& board_to_camera);
   void on_sched_status(const std::string& host, bool rt, int64_t deadline_misses);
   // One task's execution time (thread CPU time, us) as its scheduler reports
@@ -94,8 +102,8 @@ class CatchSummary {
  private:
   int64_t seed_;
   std::vector<BallOutcome> outcomes_;
-  std::map<int, BallTrack> tracks_;                                  // by truth ball index
-  std::map<int64_t, std::pair<int, double>> rolling_ball_by_utime_;  // utime -> (ball, y_B)
+  std::map<int, BallTrack> tracks_;                                           // by truth ball index
+  std::map<int64_t, std::pair<int, Eigen::Vector2d>> rolling_ball_by_utime_;  // -> (ball, B)
   int last_ball_ = -1;
   // Truth of the newest frames by capture time, to score world outputs.
   std::map<int64_t, Eigen::Vector2d> truth_by_utime_;

@@ -72,10 +72,10 @@ TEST(CatchSummary, ClassifiesAMissedBallFromTheWorldModelsPredictions) {
   // the second time 10 mm off, 0.9 s before the true exit: the arm was late.
   for (int64_t u : {1'000'000, 1'100'000}) {
     s.on_truth(u, true, {300, 100}, -1, false, false, "", pose);
-    s.on_ball_truth(u, 0, true, 100.0, 300.0, 2'000'000);
+    s.on_ball_truth(u, 0, true, {300.0, 100.0}, 300.0, 2'000'000);
   }
-  s.on_prediction(1'000'000, true, true, 400.0);
-  s.on_prediction(1'100'000, true, true, 310.0);
+  s.on_prediction(1'000'000, true, true, 400.0, Eigen::Vector2d(300.0, 110.0));
+  s.on_prediction(1'100'000, true, true, 310.0, Eigen::Vector2d(300.0, 160.0));
   s.on_prediction(1'200'000, true, true, 0.0);  // no truth frame: ignored
   s.on_truth(2'500'000, false, {0, 0}, 0, false, true, "cup 90 mm from the ball's path", pose);
   const auto j = s.to_json();
@@ -83,6 +83,8 @@ TEST(CatchSummary, ClassifiesAMissedBallFromTheWorldModelsPredictions) {
   EXPECT_EQ(j["missed"][0]["kind"], "arm late");
   EXPECT_NEAR(j["missed"][0]["lead_s"].get<double>(), 0.9, 1e-9);
   EXPECT_NEAR(j["missed"][0]["first_tracked_y_mm"].get<double>(), 100.0, 1e-9);
+  EXPECT_NEAR(j["missed"][0]["max_track_error_mm"].get<double>(), 60.0, 1e-9);
+  EXPECT_NEAR(j["missed"][0]["strayed_at_y_mm"].get<double>(), 100.0, 1e-9);
   EXPECT_EQ(j["missed_kinds"]["arm late"], 1);
   EXPECT_EQ(j["missed_kinds_oracle_reachable"]["arm late"], 1);
 }

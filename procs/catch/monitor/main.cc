@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
                        m.last_oracle_reachable, m.last_reason,
                        pose_of(m.board_to_camera_r, m.board_to_camera_t_mm));
       summary.on_ball_truth(m.utime, m.ball, m.phase == catch_truth_t::PHASE_ROLLING,
-                            m.ball_b_mm[1], m.exit_x_b_mm, m.exit_utime);
+                            Eigen::Vector2d(m.ball_b_mm[0], m.ball_b_mm[1]), m.exit_x_b_mm,
+                            m.exit_utime);
       if (m.last_ball >= 0 && m.last_ball != last_logged) {
         last_logged = m.last_ball;
         spdlog::info("ball {}: {}{}", m.last_ball, m.last_caught ? "" : "missed: ", m.last_reason);
@@ -79,7 +80,7 @@ int main(int argc, char** argv) {
       std::lock_guard<std::mutex> lock(mutex);
       summary.on_world(m.utime, m.latency_ms, p);
       summary.on_prediction(m.utime, m.status == catch_world_t::STATUS_TRACKING,
-                            m.has_prediction != 0, m.exit_x_b_mm);
+                            m.has_prediction != 0, m.exit_x_b_mm, p);
     });
     bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose,
                                       [&](const catch_board_pose_t& m) {

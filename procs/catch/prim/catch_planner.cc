@@ -24,6 +24,8 @@ const char* to_string(GoalReason reason) {
       return "too soon";
     case GoalReason::kHolding:
       return "holding";
+    case GoalReason::kFrozen:
+      return "frozen";
   }
   return "?";
 }
@@ -55,7 +57,8 @@ CatchPlanner::CatchPlanner(const BoardSpec& board, const BoardPlacement& placeme
   }
   if (!(params.resend_min_mm >= 0.0) || !(params.resend_sigma_fraction >= 0.0) ||
       !(params.refresh_min_mm >= 0.0) || params.refresh_period_us < 0 ||
-      params.min_interval_us < 0 || params.hold_after_catch_us < 0) {
+      params.min_interval_us < 0 || params.hold_after_catch_us < 0 ||
+      !(params.freeze_before_catch_s >= 0.0)) {
     throw std::invalid_argument("CatchPlanner: thresholds and intervals must be >= 0");
   }
 }
@@ -116,6 +119,11 @@ CatchGoal CatchPlanner::step(int64_t now_utime, const std::optional<CatchPredict
     } else if (goal.moved_mm > params_.refresh_min_mm &&
                now_utime - last_send_utime_ >= params_.refresh_period_us) {
       due = GoalReason::kRefreshed;
+    }
+    if ((due == GoalReason::kRefined || due == GoalReason::kRefreshed) &&
+        goal.time_to_catch_s < params_.freeze_before_catch_s) {
+      goal.reason = GoalReason::kFrozen;
+      due = GoalReason::kUnchanged;
     }
     if (due != GoalReason::kUnchanged) {
       goal = send(now_utime, clamped, due, goal);

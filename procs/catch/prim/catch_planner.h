@@ -12,6 +12,11 @@
 //                              max(resend_min_mm, resend_sigma_fraction *
 //                              sigma), or by more than refresh_min_mm once
 //                              refresh_period_us passed since the last goal
+//   the catch is near       -> no re-aim within freeze_before_catch_s of the
+//                              predicted catch (the arm cannot move the cup
+//                              usefully in that time, and a new goal makes it
+//                              brake; the last predictions near the edge are
+//                              the ones the cup in view corrupts)
 //   the ball has gone       -> hold hold_after_catch_us after the predicted
 //   (catch time passed)        catch time, then return to the ready point
 //
@@ -56,6 +61,9 @@ struct CatchPlannerParams {
   // A catch further ahead than this is not chased yet: the ball has pegs to
   // pass, which the prediction's sigma does not know of. Infinity = no wait.
   double commit_ahead_s = std::numeric_limits<double>::infinity();
+  // No re-aim (kRefined, kRefreshed) for a catch closer than this, s; the
+  // first goal for a ball still goes. 0 = re-aim until the catch.
+  double freeze_before_catch_s = 0.0;
 
   // Defaults for a board: the box spans the board's width plus 100 mm on
   // each side (y of W), from 50 mm behind to 350 mm in front of the bottom
@@ -73,6 +81,7 @@ enum class GoalReason {
   kUnchanged,    // no new goal: the current one still holds
   kTooSoon,      // a new goal is due but min_interval_us has not passed
   kHolding,      // no new goal: the ball has gone, holding before returning
+  kFrozen,       // no re-aim: the catch is within freeze_before_catch_s
 };
 const char* to_string(GoalReason reason);
 

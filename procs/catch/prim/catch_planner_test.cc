@@ -144,5 +144,30 @@ TEST_F(CatchPlannerTest, RejectsABoxWithoutTheReadyPoint) {
   EXPECT_THROW(make(), std::invalid_argument);
 }
 
+TEST_F(CatchPlannerTest, DoesNotReaimInTheLastMomentsBeforeTheCatch) {
+  params_.freeze_before_catch_s = 0.15;
+  params_.min_interval_us = 0;
+  CatchPlanner planner = make();
+  planner.step(0, std::nullopt, cup_);
+  EXPECT_EQ(planner.step(100 * kMs, prediction(), cup_).reason, GoalReason::kCatch);
+  // 0.4 s ahead a 50 mm change is re-aimed at; 0.1 s ahead it is not.
+  const CatchGoal early = planner.step(300 * kMs, prediction(50.0), cup_);
+  EXPECT_TRUE(early.send);
+  EXPECT_EQ(early.reason, GoalReason::kRefined);
+  const CatchGoal late = planner.step(600 * kMs, prediction(120.0), cup_);
+  EXPECT_FALSE(late.send);
+  EXPECT_EQ(late.reason, GoalReason::kFrozen);
+  EXPECT_EQ(late.point_w_mm, prediction(50.0).catch_point_w_mm);
+  // A new ball's first goal still goes, however near its catch.
+  CatchPrediction next = prediction(-30.0);
+  next.ball_id = 2;
+  EXPECT_EQ(planner.step(650 * kMs, next, cup_).reason, GoalReason::kCatch);
+}
+
+TEST_F(CatchPlannerTest, RefusesANegativeFreeze) {
+  params_.freeze_before_catch_s = -0.1;
+  EXPECT_THROW(make(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ephor::catching

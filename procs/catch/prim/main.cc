@@ -54,7 +54,8 @@ namespace {
 // the vision (measured: 4 of 10 balls of seed 2 never tracked with 500 ms).
 ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
                                           double commit_ahead_s, double reaim_ms, double hold_ms,
-                                          double resend_mm) {
+                                          double resend_mm, double freeze_ms) {
+  p.freeze_before_catch_s = freeze_ms / 1e3;
   p.hold_after_catch_us = static_cast<int64_t>(hold_ms * 1e3);
   p.max_sigma_mm = 150.0;
   p.commit_ahead_s = commit_ahead_s;
@@ -77,7 +78,7 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
   double duration_s = 0.0, commit_ahead_s = 0.6, reaim_ms = 250.0, hold_ms = 150.0,
-         resend_mm = 15.0;
+         resend_mm = 15.0, freeze_ms = 150.0;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--commit-ahead-s", commit_ahead_s,
                  "chase a predicted catch only when it is at most this far ahead, s (the cup "
@@ -91,6 +92,10 @@ int main(int argc, char** argv) {
                  "re-aim when the predicted catch point moved by more than this (or half its "
                  "sigma), mm (default 15)")
       ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--freeze-ms", freeze_ms,
+                 "no re-aim within this many ms of the predicted catch (the arm cannot use the "
+                 "time; default 150)")
+      ->check(CLI::Range(0.0, 10000.0));
   app.add_option("--hold-ms", hold_ms,
                  "after a ball, hold the cup this many ms past the predicted catch before going "
                  "back to the ready point (default 150)")
@@ -123,7 +128,7 @@ int main(int argc, char** argv) {
       if (!planner) {
         planner.emplace(board, *placement,
                         tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s,
-                              reaim_ms, hold_ms, resend_mm));
+                              reaim_ms, hold_ms, resend_mm, freeze_ms));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
