@@ -5,19 +5,20 @@
 namespace ephor::catching {
 
 BallSequence::BallSequence(const CatchScenario& scenario, int balls, double gap_s,
-                           double first_release_s)
+                           double first_release_s, double max_arm_wait_s)
     : scenario_(scenario),
       judge_(scenario.board, scenario.placement),
       balls_(balls),
       gap_s_(gap_s),
-      first_release_s_(first_release_s) {}
+      first_release_s_(first_release_s),
+      max_arm_wait_s_(max_arm_wait_s) {}
 
 double BallSequence::finished_for_s(double now_s) const {
   return phase_ == Phase::kDone ? now_s - phase_since_s_ : 0.0;
 }
 
 void BallSequence::step(BoardWorld& world, const CatchCell& cell, const arm::Joints& q,
-                        double now_s) {
+                        double now_s, bool arm_still) {
   auto finish = [&](bool caught, std::string reason) {
     ++done_;
     if (caught) ++caught_;
@@ -30,6 +31,7 @@ void BallSequence::step(BoardWorld& world, const CatchCell& cell, const arm::Joi
   switch (phase_) {
     case Phase::kWaiting:
       if (now_s - phase_since_s_ < gap_s_ || now_s < first_release_s_) return;
+      if (!arm_still && now_s - phase_since_s_ < gap_s_ + max_arm_wait_s_) return;
       world.release(scenario_.release(ball_));
       expected_exit_ = world.predict_exit().exit;
       current_reachable_ = false;

@@ -38,11 +38,13 @@ class BallSequence {
   // balls: how many to release (0 = endless); gap_s: pause before each
   // release; first_release_s: world time of the first release (the arm first
   // waits parked while vision finds the board, then moves to the ready point).
-  BallSequence(const CatchScenario& scenario, int balls, double gap_s,
-               double first_release_s = 0.0);
+  BallSequence(const CatchScenario& scenario, int balls, double gap_s, double first_release_s = 0.0,
+               double max_arm_wait_s = 3.0);
 
-  // Called after every world step at world time now_s with the arm's joints.
-  void step(BoardWorld& world, const CatchCell& cell, const arm::Joints& q, double now_s);
+  // Called after every world step at world time now_s with the arm's joints;
+  // arm_still: no joint moves faster than a hundredth of a rad/s.
+  void step(BoardWorld& world, const CatchCell& cell, const arm::Joints& q, double now_s,
+            bool arm_still = true);
 
   Phase phase() const { return phase_; }
   int ball() const { return ball_; }  // index of the current (or next) ball
@@ -61,6 +63,7 @@ class BallSequence {
   int balls_;
   double gap_s_;
   double first_release_s_;
+  double max_arm_wait_s_;
   Phase phase_ = Phase::kWaiting;
   int ball_ = 0;
   double phase_since_s_ = 0.0;

@@ -41,6 +41,9 @@
 #include "common/arm/arm_servo.h"
 #include "common/arm/arm_workcell.h"
 #include "common/arm/servo_messages.h"
+#include "common/catch/board_file.h"
+#include "common/catch/board_model.h"
+#include "common/catch/catch_channels.h"
 #include "common/config/repo_paths.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
@@ -55,9 +58,6 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
-#include "common/catch/board_file.h"
-#include "common/catch/board_model.h"
-#include "common/catch/catch_channels.h"
 #include "procs/catch/sim/ball_sequence.h"
 #include "procs/catch/sim/board_renderer.h"
 #include "procs/catch/sim/board_world.h"
@@ -155,7 +155,8 @@ struct SimProcess {
     servo.step(kStepS);
     world.step(kStepS);
     clock_s += kStepS;
-    balls.step(world, catch_cell, servo.state().q, world.time_s());
+    balls.step(world, catch_cell, servo.state().q, world.time_s(),
+               servo.state().qd.cwiseAbs().maxCoeff() < 0.01);
   }
 };
 
