@@ -86,7 +86,7 @@ def base_args(src):
         "ephor-launch": [os.path.join(src, "deploy/shepherd.pbtxt")],  # flags may be its parameters
         "ephor-log": ["info", os.path.join(src, "README.md")],  # an existing file
         "ephor-make-sim-calibration": ["--out", "out.pbtxt"],
-        "ephor-replay": ["run.lcm"],
+        "ephor-replay": [os.path.join(src, "README.md")],  # an existing file
         "ephor-scheduler": ["--manifest", "manifest.pbtxt"],
         "ephor-sheriff": [os.path.join(src, "deploy/shepherd.pbtxt")],  # flags may be its parameters
         "ephor-sphere-locate": ["scan.csv", "--json", "-"],
@@ -218,6 +218,7 @@ def executable_cases(exe, src, tmp):
 
 def ephor_cases(src, tmp):
     """tools/ephor and its subcommands (tools/ephor.d)."""
+    existing = os.path.join(src, "README.md")  # a file that exists: the flag is the bad input
     e = os.path.join(src, "tools/ephor")
     missing = os.path.join(tmp, "no-such-file.pbtxt")
     folder = os.path.join(tmp, "a-folder")
@@ -259,16 +260,18 @@ def ephor_cases(src, tmp):
          ["--objects"]),
         ("spy: unknown flag", [e, "spy", "--no-such-flag"], ["--no-such-flag"]),
         ("spy: --timeout-s without its value", [e, "spy", "--timeout-s"], ["--timeout-s"]),
-        ("replay: unknown flag", [e, "replay", missing, "--no-such-flag"], ["--no-such-flag"]),
+        ("replay: unknown flag", [e, "replay", existing, "--no-such-flag"], ["--no-such-flag"]),
         ("replay: missing file", [e, "replay", missing], [missing]),
         ("replay: a directory", [e, "replay", folder], [folder]),
-        ("replay: --timeout-s 0", [e, "replay", missing, "--timeout-s", "0"], ["--timeout-s"]),
+        ("replay: --timeout-s 0", [e, "replay", existing, "--timeout-s", "0"], ["--timeout-s"]),
         ("track: unknown flag", [e, "track", missing, "--json", "-", "--no-such-flag"],
          ["--no-such-flag"]),
         ("track: missing file", [e, "track", missing, "--json", "-"], [missing]),
         ("track: a directory", [e, "track", folder, "--json", "-"], [folder]),
         ("catch: unknown command", [e, "catch", "no-such-command"], ["no-such-command"]),
-        ("catch track: unknown flag", [e, "catch", "track", "--no-such-flag"], ["--no-such-flag"]),
+        ("catch track: unknown flag",
+         [e, "catch", "track"] + base_args(src)["ephor-catch-track"] + ["--no-such-flag"],
+         ["--no-such-flag"]),
         ("sphere: unknown command", [e, "sphere", "no-such-command"], ["no-such-command"]),
         ("sphere locate: missing file", [e, "sphere", "locate", missing, "--json", "-"], [missing]),
         ("sphere locate: a directory", [e, "sphere", "locate", folder, "--json", "-"], [folder]),

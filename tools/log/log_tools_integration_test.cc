@@ -177,7 +177,8 @@ TEST(LogTools, BadInputGetsAClearError) {
   const std::string tool = source_path("tools/ephor.d/log");
   const auto [e1, out1] = run_tool("info", tool, {"info", "/no/such.lcm"}, seconds(30));
   EXPECT_NE(e1.code, 0);
-  EXPECT_NE(joined(out1).find("cannot open LCM log /no/such.lcm"), std::string::npos)
+  EXPECT_EQ(e1.code, 2);  // bad input: one line, status 2 (issue 18)
+  EXPECT_NE(joined(out1).find("File does not exist: /no/such.lcm"), std::string::npos)
       << joined(out1);
   const auto [e2, out2] = run_tool("play", tool, {"play", "/no/such.lcm"}, seconds(30));
   EXPECT_NE(e2.code, 0);

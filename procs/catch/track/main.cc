@@ -21,6 +21,7 @@
 // frames of another size than the camera file's), 1 when the board's pose is
 // not found anywhere in the video.
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -48,8 +49,18 @@ struct InputError : std::runtime_error {
 
 cv::VideoCapture open_video(const std::string& path) {
   // A printf pattern is an image sequence; anything else a video file.
+  // Checked first: OpenCV's backends print several lines of warnings for a
+  // missing file instead of one error.
+  namespace fs = std::filesystem;
+  const bool pattern = path.find('%') != std::string::npos;
+  if (!pattern && !fs::exists(path)) throw InputError("video file '" + path + "': no such file");
+  if (!pattern && fs::is_directory(path))
+    throw InputError("video file '" + path + "': is a folder, not a file");
+  const fs::path dir = fs::path(path).parent_path();
+  if (pattern && !dir.empty() && !fs::is_directory(dir))
+    throw InputError("image sequence '" + path + "': no folder '" + dir.string() + "'");
   cv::VideoCapture capture;
-  if (path.find('%') != std::string::npos)
+  if (pattern)
     capture.open(path, cv::CAP_IMAGES);
   else
     capture.open(path);

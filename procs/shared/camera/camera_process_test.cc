@@ -128,14 +128,16 @@ TEST(CameraProcess, ImageSequenceThroughVisionLikeTheSimulatorsCamera) {
   fs::remove_all(dir);
 }
 
-TEST(CameraProcess, BadSourceIsNamedAndExitsNonZero) {
+// A source that cannot be opened is bad input from the person at the
+// keyboard: one line naming it, status 2 (issue 18).
+TEST(CameraProcess, BadSourceIsNamedAndExitsWithStatusTwo) {
   Processes procs;
   procs.start("camera", bin("ephor-camera"),
               {"/nonexistent/clip.avi", "--no-mlock", "--name", "camera"});
   ASSERT_TRUE(wait_until([&] { return !procs.exits().empty(); }, seconds(10)));
   const auto exits = procs.exits();
   EXPECT_TRUE(exits[0].failure);
-  EXPECT_EQ(exits[0].code, 1);
+  EXPECT_EQ(exits[0].code, 2);
   EXPECT_TRUE(procs.has_line("camera", "'/nonexistent/clip.avi': no such file"));
 }
 
