@@ -10,5 +10,6 @@ inline constexpr const char* kBoardPose =
 inline constexpr const char* kWorld = "CATCH_WORLD";    // catch_world_t, worldmodel -> prim, vision
 inline constexpr const char* kTruth = "CATCH_TRUTH";    // catch_truth_t, sim -> monitor, tests
 inline constexpr const char* kSurvey = "CATCH_SURVEY";  // catch_survey_t, the arm's three touches
+inline constexpr const char* kPegs = "CATCH_PEGS";  // catch_pegs_t, the board's pegs as measured
 
 }  // namespace ephor::catching::channels

@@ -27,6 +27,8 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -99,6 +101,10 @@ class BallWorldModel {
   // until the next call.
   const BallFrame& update(int64_t capture_utime, const std::optional<Eigen::Vector2d>& centroid_px);
   void reset();
+  // The board's pegs for the exit prediction (ExitPredictor::set_pegs).
+  void set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double peg_radius_mm) {
+    predictor_.set_pegs(std::move(centres_b_mm), peg_radius_mm);
+  }
 
   const BallFrame& last() const { return frame_; }
   const BoardRay& ray() const { return ray_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace ephor::catching {
 
@@ -30,6 +31,75 @@ ExitPredictor::ExitPredictor(const BoardSpec& board, const BoardPlacement& place
       placement_(placement),
       acceleration_mm_s2_(acceleration_mm_s2),
       params_(params) {}
+
+void ExitPredictor::set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double peg_radius_mm,
+                             double restitution) {
+  for (const auto& c : centres_b_mm)
+    if (!c.allFinite()) throw std::invalid_argument("ExitPredictor: a peg centre is not finite");
+  if (!centres_b_mm.empty() && !(peg_radius_mm > 0.0 && std::isfinite(peg_radius_mm)))
+    throw std::invalid_argument("ExitPredictor: the peg radius must be > 0");
+  if (!(restitution >= 0.0 && restitution <= 1.0))
+    throw std::invalid_argument("ExitPredictor: the restitution must be in [0, 1]");
+  pegs_ = std::move(centres_b_mm);
+  peg_radius_mm_ = peg_radius_mm;
+  restitution_ = restitution;
+}
+
+namespace {
+
+struct RolledExit {
+  bool ok = false;
+  double tau_s = 0.0;
+  double x_mm = 0.0;
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  int bounces = 0;
+};
+
+// Rolls (x, y, vx, vy) forward to y = height past pegs and rails.
+RolledExit roll_past_pegs(const BoardSpec& board, const std::vector<Eigen::Vector2d>& pegs,
+                          double peg_radius_mm, double restitution, double a,
+                          const Eigen::Vector4d& state) {
+  constexpr double kStepS = 0.0005, kHorizonS = 3.0;
+  const double r = board.ball_radius_mm(), h = board.height_mm, reach = peg_radius_mm + r;
+  Eigen::Vector2d p = state.head<2>(), v = state.tail<2>();
+  RolledExit out;
+  for (double t = 0.0; t < kHorizonS; t += kStepS) {
+    v.y() += a * kStepS;
+    const Eigen::Vector2d next = p + v * kStepS;
+    if (next.y() >= h) {
+      // Interpolate the crossing within the step.
+      const double f = v.y() > 0.0 ? (h - p.y()) / (v.y() * kStepS) : 1.0;
+      out.ok = true;
+      out.tau_s = t + f * kStepS;
+      out.x_mm = p.x() + f * v.x() * kStepS;
+      out.velocity = v;
+      return out;
+    }
+    p = next;
+    for (const auto& c : pegs) {
+      const Eigen::Vector2d d = p - c;
+      const double dist = d.norm();
+      if (dist >= reach || dist <= 1e-9) continue;
+      const Eigen::Vector2d n = d / dist;
+      const double vn = v.dot(n);
+      if (vn < 0.0) {
+        v -= (1.0 + restitution) * vn * n;
+        ++out.bounces;
+      }
+      p = c + n * reach;
+    }
+    if (p.x() < r && v.x() < 0.0) {
+      p.x() = r;
+      v.x() = -restitution * v.x();
+    } else if (p.x() > board.width_mm - r && v.x() > 0.0) {
+      p.x() = board.width_mm - r;
+      v.x() = -restitution * v.x();
+    }
+  }
+  return out;  // stalled on a peg or too slow: not ok
+}
+
+}  // namespace
 
 ExitPrediction ExitPredictor::predict(const Eigen::Vector4d& state,
                                       const Eigen::Matrix4d& covariance) const {
@@ -86,6 +156,16 @@ ExitPrediction ExitPredictor::predict(const Eigen::Vector4d& state,
         j.row(0) *= -1.0;
         j.row(2) *= -1.0;
       }
+    }
+  }
+  if (!pegs_.empty() && out.status == ExitStatus::kOk) {
+    const RolledExit rolled = roll_past_pegs(board_, pegs_, peg_radius_mm_, restitution_, a, state);
+    if (rolled.ok) {
+      tau = rolled.tau_s;
+      exit_x = rolled.x_mm;
+      exit_vx = rolled.velocity.x();
+      d = rolled.velocity.y();
+      out.peg_bounces = rolled.bounces;
     }
   }
   out.time_to_exit_s = tau;

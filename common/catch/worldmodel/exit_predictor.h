@@ -20,8 +20,18 @@
 // the ball's centre at x = r and x = width - r, elastically; each reflection
 // flips the sign of vx and of dx_exit/d(state).
 //
+// Pegs (optional, set_pegs): the pegs deflect the ball, and a prediction
+// that ignores them only settles after the last bounce. With pegs known the
+// exit is found by rolling the state forward in 0.5 ms steps under the
+// rolling acceleration, bouncing off pegs and the side rails with the
+// board's restitution (0.5, no friction impulse: procs/catch/sim's model of
+// the board). The exit's covariance stays the peg-free one (first order
+// through a bounce is not meaningful; the sigma is a lower bound then).
+//
 // Times are relative to the state's time (s). Stateless apart from its
 // configuration; const methods are safe from any thread.
+
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -47,6 +57,7 @@ struct ExitPrediction {
   // Covariance of (exit x mm, exit time s, vx mm/s, vy mm/s).
   Eigen::Matrix4d exit_covariance = Eigen::Matrix4d::Zero();
   int rail_reflections = 0;
+  int peg_bounces = 0;  // with pegs known: bounces on the predicted path
 
   // The ballistic flight from the edge to the catch plane.
   Eigen::Vector3d catch_point_w_mm = Eigen::Vector3d::Zero();  // in the catch plane, W
@@ -79,11 +90,21 @@ class ExitPredictor {
 
   double acceleration_mm_s2() const { return acceleration_mm_s2_; }
 
+  // The pegs' centres (B, mm) and radius; restitution of pegs and rails.
+  // An empty list = no pegs. Throws std::invalid_argument for a non-finite
+  // centre, a radius <= 0 or a restitution outside [0, 1].
+  void set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double peg_radius_mm,
+                double restitution = 0.5);
+  const std::vector<Eigen::Vector2d>& pegs() const { return pegs_; }
+
  private:
   BoardSpec board_;
   BoardPlacement placement_;
   double acceleration_mm_s2_;
   ExitPredictorParams params_;
+  std::vector<Eigen::Vector2d> pegs_;
+  double peg_radius_mm_ = 0.0;
+  double restitution_ = 0.5;
 };
 
 }  // namespace ephor::catching

@@ -164,5 +164,38 @@ TEST_F(ExitPredictorTest, SideRailsReflectTheBall) {
   EXPECT_NEAR(e.sigma_exit_x_mm, f.sigma_exit_x_mm, 1e-9);
 }
 
+TEST_F(ExitPredictorTest, PegsDeflectThePredictedPath) {
+  ExitPredictor predictor(board_, placement_);
+  // Straight down the slope at x = 300 from y = 100, at rest.
+  const Eigen::Vector4d state(300.0, 100.0, 0.0, 0.0);
+  const Eigen::Matrix4d cov = Eigen::Matrix4d::Identity();
+  const ExitPrediction free = predictor.predict(state, cov);
+  EXPECT_NEAR(free.exit_x_b_mm, 300.0, 1e-9);
+  // A peg (radius 6 mm) 10 mm to the left of the path at y = 400: the ball
+  // glances off it to the right and leaves the board right of x = 300,
+  // later than without the peg (it lost speed down the slope).
+  predictor.set_pegs({Eigen::Vector2d(290.0, 400.0)}, 6.0);
+  const ExitPrediction pegged = predictor.predict(state, cov);
+  ASSERT_TRUE(pegged.ok());
+  EXPECT_EQ(pegged.peg_bounces, 1);
+  EXPECT_GT(pegged.exit_x_b_mm, 330.0);
+  EXPECT_GT(pegged.time_to_exit_s, free.time_to_exit_s);
+  // Mirrored: to the left.
+  predictor.set_pegs({Eigen::Vector2d(310.0, 400.0)}, 6.0);
+  EXPECT_NEAR(predictor.predict(state, cov).exit_x_b_mm, 600.0 - pegged.exit_x_b_mm, 1e-6);
+  // A peg off the path changes nothing.
+  predictor.set_pegs({Eigen::Vector2d(100.0, 400.0)}, 6.0);
+  EXPECT_NEAR(predictor.predict(state, cov).exit_x_b_mm, 300.0, 1e-6);
+  EXPECT_NEAR(predictor.predict(state, cov).time_to_exit_s, free.time_to_exit_s, 1e-3);
+}
+
+TEST_F(ExitPredictorTest, RefusesBadPegs) {
+  ExitPredictor predictor(board_, placement_);
+  EXPECT_THROW(predictor.set_pegs({Eigen::Vector2d(std::nan(""), 1.0)}, 6.0),
+               std::invalid_argument);
+  EXPECT_THROW(predictor.set_pegs({Eigen::Vector2d(1.0, 1.0)}, 0.0), std::invalid_argument);
+  EXPECT_THROW(predictor.set_pegs({}, 6.0, 1.5), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ephor::catching

@@ -11,6 +11,7 @@
 //            1 ms steps, publishes ARM_SERVO (joint_state_t) every 4 ms
 //   camera   every 1/fps: renders CAMERA (camera_frame_t) and CATCH_TRUTH
 //            (catch_truth_t, same utime and frame_index)
+// Publishes CATCH_PEGS with the survey: the pegs' centres with 0.5 mm noise.
 // Subscribes ARM_TRAJECTORY (joint_trajectory_t; malformed ones are logged,
 // counted and ignored). Publishes CATCH_SURVEY every second: the three board
 // points the arm's tool touched (see below).
@@ -54,6 +55,7 @@
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
+#include "ephor/catch_pegs_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
@@ -266,6 +268,20 @@ int main(int argc, char** argv) {
       }
     }
 
+    // The pegs as measured once when the board was set up: true centres with
+    // 0.5 mm of noise (as the survey's touches), published with the survey.
+    catch_pegs_t pegs_msg{};
+    {
+      std::mt19937_64 rng(seed ^ 0x9e65ULL);
+      std::normal_distribution<double> noise(0.0, 0.5);
+      pegs_msg.peg_diameter_mm = p.scenario.peg_diameter_mm;
+      pegs_msg.num_pegs = static_cast<int32_t>(p.scenario.pegs.size());
+      for (const Peg& peg : p.scenario.pegs) {
+        pegs_msg.x_mm.push_back(peg.x_mm + noise(rng));
+        pegs_msg.y_mm.push_back(peg.y_mm + noise(rng));
+      }
+    }
+
     std::atomic<bool> finished{false};
     int logged_ball = -1;
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)), [&] {
@@ -307,6 +323,8 @@ int main(int argc, char** argv) {
       if (frame.frame_index % static_cast<int64_t>(fps) == 0) {
         survey.utime = wall_us();
         bus.publish(catching::channels::kSurvey, survey);
+        pegs_msg.utime = survey.utime;
+        bus.publish(catching::channels::kPegs, pegs_msg);
       }
       ++p.frames;
     });

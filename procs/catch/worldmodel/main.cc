@@ -22,6 +22,11 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/catch/board_file.h"
+#include "common/catch/board_survey.h"
+#include "common/catch/camera_file.h"
+#include "common/catch/catch_channels.h"
+#include "common/catch/worldmodel/ball_world_model.h"
 #include "common/config/repo_paths.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/mailbox.h"
@@ -31,13 +36,9 @@
 #include "common/time/clock.h"
 #include "ephor/catch_ball_t.hpp"
 #include "ephor/catch_board_pose_t.hpp"
+#include "ephor/catch_pegs_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "common/catch/board_file.h"
-#include "common/catch/board_survey.h"
-#include "common/catch/camera_file.h"
-#include "common/catch/catch_channels.h"
-#include "common/catch/worldmodel/ball_world_model.h"
 
 namespace {
 
@@ -93,7 +94,10 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "worldmodel");
   std::string board_path = "deploy/catch/board.pbtxt", camera_path = "deploy/catch/camera.pbtxt";
   double duration_s = 0.0;
+  bool no_pegs = false;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
+  app.add_flag("--no-pegs", no_pegs,
+               "predict the exit as if the board had no pegs (ignore CATCH_PEGS)");
   app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   CLI11_PARSE(app, argc, argv);
@@ -147,6 +151,23 @@ int main(int argc, char** argv) {
                      fitted->incline_rad * 180.0 / M_PI);
       placement = fitted;
     });
+    // The pegs, once (the board does not change while we run).
+    std::optional<std::pair<std::vector<Eigen::Vector2d>, double>> pegs;
+    bool pegs_applied = false;
+    bus.subscribe<catch_pegs_t>(catching::channels::kPegs, [&](const catch_pegs_t& m) {
+      std::vector<Eigen::Vector2d> centres;
+      for (int i = 0; i < m.num_pegs; ++i) centres.emplace_back(m.x_mm[i], m.y_mm[i]);
+      bool finite = std::isfinite(m.peg_diameter_mm) && m.peg_diameter_mm > 0.0;
+      for (const auto& c : centres) finite = finite && c.allFinite();
+      if (!finite) {
+        ++bad_messages;
+        spdlog::warn("CATCH_PEGS ignored: a peg or the diameter is not finite and positive");
+        return;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!pegs) spdlog::info("{} pegs: the exit prediction rolls the ball past them", m.num_pegs);
+      if (!pegs) pegs.emplace(std::move(centres), 0.5 * m.peg_diameter_mm);
+    });
     bus.subscribe<catch_ball_t>(catching::channels::kBall, [&](const catch_ball_t& m) {
       balls.put(m);
       runtime.trigger("model");
@@ -162,6 +183,10 @@ int main(int argc, char** argv) {
         params.acquire_max_y_mm = 150.0;  // balls are released 30 mm from the top
         model.emplace(board, *placement, intrinsics, *board_to_camera, params);
         spdlog::info("initialised: tracking");
+      }
+      if (pegs && !pegs_applied && !no_pegs) {
+        model->set_pegs(pegs->first, pegs->second);
+        pegs_applied = true;
       }
       std::optional<Eigen::Vector2d> centroid;
       if (ball->found) {
