@@ -4,7 +4,7 @@
 //     launcher's `--record` (lcm-logger);
 //  2. a fresh ephor-catch-worldmodel is started and `lcm-logplayer` plays the
 //     log's world-model inputs to it (CATCH_BOARD_POSE, CATCH_SURVEY,
-//     CATCH_BALL); its outputs are heard.
+//     CATCH_PEGS, CATCH_BALL); its outputs are heard.
 // Every CATCH_WORLD of the live run must come back byte-identical from the
 // replay (matched by the frame's capture time), except the fields that say
 // when it was made, not what: header.utime, header.seq and latency_ms.
@@ -100,7 +100,8 @@ TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
             env);
     ASSERT_TRUE(wait_until([&] { return p.has_line("worldmodel", "ready:"); }, seconds(10)));
     p.start("player", "/usr/bin/lcm-logplayer",
-            {"--lcm-url", kUrl, "--regexp", "CATCH_BOARD_POSE|CATCH_SURVEY|CATCH_BALL", log_path},
+            {"--lcm-url", kUrl, "--regexp", "CATCH_BOARD_POSE|CATCH_SURVEY|CATCH_PEGS|CATCH_BALL",
+             log_path},
             env);
     EXPECT_TRUE(wait_until([&] { return exited(p, "player"); }, seconds(60)));
     const auto all_back = [&] {
