@@ -46,9 +46,14 @@ RamboCell RamboCell::make(int diode_count) {
     g.in_target = beam_pose(d.lens_mm + kStandoffMm * d.axis, -d.axis);
     goals.push_back(g);
   }
+  // The box's cut corner turned (180 deg about z) to (-x, -y, +z), towards
+  // the arm: a box shows the same image in two poses 180 deg apart unless
+  // the cut is in view, and pose estimation must not lock onto the wrong one.
   const TargetModel box = TargetModel::truncated_box(kSx, kSy, kSz, {60.0, 50.0, 40.0});
+  std::vector<Eigen::Vector3d> turned;
+  for (const Eigen::Vector3d& v : box.vertices()) turned.emplace_back(-v.x(), -v.y(), v.z());
   RamboCell c{
-      TargetModel(box.vertices(), box.faces(), goals), all,
+      TargetModel(turned, box.faces(), goals), all,
       Eigen::Vector3d(kSy * kSy + kSz * kSz, kSx * kSx + kSz * kSz, kSx * kSx + kSy * kSy) / 12.0,
       CameraIntrinsics{}};
   c.camera.fx_px = c.camera.fy_px = 380.0;  // 80 deg across 640 px: the whole target at 200 mm

@@ -4,8 +4,10 @@
 
 namespace ephor::rambo::channels {
 
-// rambo_features_t, sim (oracle) or a features process -> pose.
+// rambo_features_t, the features process (from CAMERA) -> pose.
 inline constexpr const char* kFeatures = "RAMBO_FEATURES";
+// rambo_features_t, sim -> pose: the oracle (projected vertices + noise).
+inline constexpr const char* kFeaturesOracle = "RAMBO_FEATURES_ORACLE";
 // rambo_pose_t, pose -> predictor: one per frame with triples.
 inline constexpr const char* kPose = "RAMBO_POSE";
 // rambo_prediction_t, predictor -> planner: after every pose.

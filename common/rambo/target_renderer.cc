@@ -1,4 +1,4 @@
-#include "procs/rambo/sim/target_renderer.h"
+#include "common/rambo/target_renderer.h"
 
 #include <algorithm>
 #include <cmath>

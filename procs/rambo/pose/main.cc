@@ -6,13 +6,13 @@
 // tool plate). Section 5's pruning uses a prior: the predictor's motion at
 // the frame's time when it is fresh, else the last pose found.
 //
-//   subscribes  RAMBO_FEATURES (rambo_features_t), ARM_STATE (arm_state_t),
+//   subscribes  RAMBO_FEATURES (rambo_features_t; or --features-channel), ARM_STATE (arm_state_t),
 //               RAMBO_PREDICTION (rambo_prediction_t: the prior)
 //   publishes   RAMBO_POSE (rambo_pose_t), one per features message
 //   tasks       pose (triggered by RAMBO_FEATURES: always the newest)
 //
-// The features are, for now, the simulator's oracle (see rambo_features_t):
-// this process is the real section 5, its input is not yet section 4.
+// --features-channel: the features process's triples (section 4, from the
+// frames) or the simulator's oracle (see rambo_features_t).
 
 #include <atomic>
 #include <cmath>
@@ -47,10 +47,13 @@ int main(int argc, char** argv) {
   CLI::App app{"ephor-rambo-pose: target pose from image triples (triangle pairs)"};
   ProcessArgs args;
   add_process_flags(app, args, "pose");
-  std::string method = "exact";
+  std::string method = "exact", features_channel = rambo::channels::kFeatures;
   double duration_s = 0.0, prior_max_age_s = 1.0;
   app.add_option("--method", method, "exact (P3P per triangle pair) or paraperspective")
       ->check(CLI::IsMember({"exact", "paraperspective"}));
+  app.add_option("--features-channel", features_channel,
+                 "image triples from: RAMBO_FEATURES (the features process, from the frames) or "
+                 "RAMBO_FEATURES_ORACLE (the simulator's projected vertices)");
   app.add_option("--prior-max-age-s", prior_max_age_s,
                  "prune with the last pose when it is at most this old, s (0 = never prune)")
       ->check(CLI::Range(0.0, 60.0));
@@ -105,7 +108,7 @@ int main(int argc, char** argv) {
       joints.emplace_back(m.utime, q);
       while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
     });
-    bus.subscribe<rambo_features_t>(rambo::channels::kFeatures, [&](const rambo_features_t& m) {
+    bus.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
       features.put(m);
       runtime.trigger("pose");
     });
@@ -131,6 +134,7 @@ int main(int argc, char** argv) {
       rambo_pose_t out{};
       out.utime = f->utime;
       out.frame_index = f->frame_index;
+      out.features_source = f->source;
       std::vector<ImageTriple> triples;
       bool finite = static_cast<int>(f->triples_px.size()) == f->num_triples;
       for (const auto& t : f->triples_px) {
@@ -148,7 +152,7 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(mutex);
         q = joints_at(f->utime);
         const double t_frame = static_cast<double>(f->utime) * 1e-6;
-        if (motion && prior_max_age_s > 0 && t_frame - motion->t_ref_s <= 2.0 * prior_max_age_s &&
+        if (motion && prior_max_age_s > 0 && t_frame - motion->t_ref_s <= 5.0 * prior_max_age_s &&
             t_frame >= motion->t_ref_s)
           prior_in_base = motion->pose(t_frame);
         else if (last && prior_max_age_s > 0 &&

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   double window_s = 4.0, duration_s = 0.0, max_rms_px = 3.0;
   int min_samples = 5, outliers_in_row = 0;
   bool fit_valid = false;  // the predictor's fit is of the poses in the window
+  int refit_after = 10;    // outlier poses in a row (2 s at 5 Hz) that restart the fit
   double max_jump_mm = 40.0, max_jump_deg = 15.0;
   app.add_option("--window-s", window_s, "fit the poses of this last span, s (default 4)")
       ->check(CLI::Range(0.5, 120.0));
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(3, 1000));
   app.add_option("--max-rms-px", max_rms_px, "drop poses with more reprojection error, px")
       ->check(CLI::Range(0.1, 100.0));
+  app.add_option("--refit-after", refit_after, "outlier poses in a row that restart the fit (10)")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
   app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
@@ -86,20 +89,20 @@ int main(int argc, char** argv) {
       }
       if (epoch_utime < 0) epoch_utime = m->utime;
       // A pose far from the fitted motion is a wrong cluster (a near-symmetric
-      // view): dropped, unless three in a row disagree (then the fit is the
-      // one that is wrong and starts again).
+      // view): dropped, unless --refit-after in a row disagree (then the fit
+      // is the one that is wrong and starts again).
       if (fit_valid && !window.empty()) {
         const PosePrediction expected =
             predictor.predict(static_cast<double>(m->utime - epoch_utime) * 1e-6);
         const bool outlier = (expected.pose.translation() - p.translation()).norm() > max_jump_mm ||
                              rotation_angle_between(expected.pose.linear(), p.linear()) >
                                  max_jump_deg * M_PI / 180.0;
-        if (outlier && ++outliers_in_row < 3) {
+        if (outlier && ++outliers_in_row < refit_after) {
           ++dropped;
           return;
         }
         if (outlier) {
-          spdlog::warn("three poses in a row off the fitted motion: fitting afresh");
+          spdlog::warn("{} poses in a row off the fitted motion: fitting afresh", refit_after);
           window.clear();
           fit_valid = false;
         }

@@ -7,14 +7,14 @@
 //   ephor-rambo-sim --seed 1 --diodes 4 --summary out.json
 //
 // Tasks: physics (2 ms: servo and indicator in 1 ms steps; ARM_SERVO every
-// 4 ms), camera (1/fps: CAMERA, RAMBO_TRUTH, RAMBO_FEATURES), indicator (50 ms:
+// 4 ms), camera (1/fps: CAMERA, RAMBO_TRUTH, RAMBO_FEATURES_ORACLE), indicator (50 ms:
 // RAMBO_INDICATOR). Subscribes ARM_TRAJECTORY, and RAMBO_POSE, RAMBO_PREDICTION,
 // RAMBO_PLAN for the run's summary (scored against the truth it alone has).
 //
-// RAMBO_FEATURES here is an ORACLE, not vision: the visible vertices' true
-// projections plus --noise-px Gaussian noise, as image triples, standing in for
-// the features process (section 4) that does not exist yet. It says so in its
-// `source` field ("oracle").
+// RAMBO_FEATURES_ORACLE is an ORACLE, not vision: the visible vertices' true
+// projections plus --noise-px Gaussian noise, as image triples, for runs and
+// tests of the later stages without the features process (section 4, which
+// reads CAMERA and publishes RAMBO_FEATURES). Its `source` says "oracle".
 //
 // The run ends (exit 0) one second after every diode is tagged, or after
 // --max-s; the summary is written then.
@@ -64,7 +64,7 @@
 #include "ephor/rambo_prediction_t.hpp"
 #include "ephor/rambo_truth_t.hpp"
 
-#include "procs/rambo/sim/target_renderer.h"
+#include "common/rambo/target_renderer.h"
 
 namespace {
 
@@ -167,6 +167,8 @@ struct World {
     }
   }
 
+  std::string features_source = "none heard";  // of the poses' features
+
   nlohmann::json summary(uint64_t seed, double spin_deg_s) const {
     nlohmann::json j;
     j["system"] = "rambo";
@@ -192,7 +194,7 @@ struct World {
     j["pose_error_mm"] = p50_p99(pose_err_mm);
     j["pose_error_deg"] = p50_p99(pose_err_deg);
     j["pose_ms"] = p50_p99(pose_ms);
-    j["pose_features_source"] = "oracle: projected vertices + noise, not image features";
+    j["pose_features_source"] = features_source;
     j["predictions"] = predictions;
     nlohmann::json pe;
     for (int h = 0; h < 3; ++h)
@@ -214,7 +216,7 @@ struct World {
     j["bad_messages"] = bad_messages;
     j["deadline_misses"] = nullptr;  // not collected: the scheduler's job stats are not read here
     j["rt"] = nullptr;
-    j["missing"] = {"deadline_misses", "rt", "features from images (oracle triples)",
+    j["missing"] = {"deadline_misses", "rt",
                     "pose_error against the paper's peer (solvePnPRansac) in the same run"};
     return j;
   }
@@ -294,6 +296,7 @@ int main(int argc, char** argv) {
     bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&w](const rambo_pose_t& m) {
       std::lock_guard<std::mutex> lock(w.mutex);
       ++w.poses;
+      w.features_source = m.features_source;
       if (!m.found) return;
       const Eigen::Isometry3d est = from_message(m.target_r, m.target_t_mm);
       const auto it = w.truth_by_utime.find(m.utime);
@@ -403,7 +406,7 @@ int main(int argc, char** argv) {
         f.triples_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(), t.a_px.y(),
                                 t.b_px.x(), t.b_px.y()});
       f.num_triples = static_cast<int32_t>(f.triples_px.size());
-      bus.publish(rambo::channels::kFeatures, f);
+      bus.publish(rambo::channels::kFeaturesOracle, f);
       ++w.frames;
     });
 

@@ -1,6 +1,7 @@
 // The whole RAMBO slice (deploy/rambo.pbtxt) started headless by the launcher,
 // as a user runs it, in a private network namespace: the simulator's slowly
-// tumbling target (2 deg/s), pose from its (oracle) image triples, the
+// tumbling target (2 deg/s), pose from its oracle image triples (the
+// manifest's default: projected vertices + noise, not the features process's), the
 // rigid-body predictor, the planner and the shared comm and arm. A listener
 // on the same bus checks that the laser tags at least one diode within 80 s,
 // that poses are mostly found and close to the truth, and that bad input
@@ -81,7 +82,7 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
     f.source = "rambo-test";
     f.num_triples = 1;
     f.triples_px = {{std::nan(""), 1.0, 2.0, 3.0, 4.0, 5.0}};
-    bus.publish(rambo::channels::kFeatures, f);
+    bus.publish(rambo::channels::kFeaturesOracle, f);
     const char garbage[] = "not an lcm message";
     bus.publish_raw(rambo::channels::kPose, garbage, sizeof garbage);
   }
@@ -116,6 +117,7 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
   std::fprintf(stderr, "summary: %s\n", s.dump().c_str());
   EXPECT_GE(s.at("tagged").get<int>(), 1);
   EXPECT_EQ(s.at("diodes").get<int>(), 4);
+  EXPECT_EQ(s.at("pose_features_source").get<std::string>(), "oracle");
   ASSERT_FALSE(s.at("pose_error_mm").is_null());
   EXPECT_LT(s.at("pose_error_mm").at("p50").get<double>(), 5.0);
   EXPECT_LT(s.at("pose_error_deg").at("p50").get<double>(), 1.0);
