@@ -1,5 +1,6 @@
 #include "common/catch/worldmodel/ball_kalman_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -44,12 +45,51 @@ void BallKalmanFilter::initialise(const Eigen::Vector2d& z, const Eigen::Matrix2
   since_update_s_ = 0.0;
 }
 
+void BallKalmanFilter::set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double reach_mm,
+                                double restitution) {
+  for (const auto& c : centres_b_mm)
+    if (!c.allFinite()) throw std::invalid_argument("BallKalmanFilter: a peg centre is not finite");
+  if (!centres_b_mm.empty() && !(reach_mm > 0.0 && std::isfinite(reach_mm)))
+    throw std::invalid_argument("BallKalmanFilter: the peg reach must be > 0");
+  if (!(restitution >= 0.0 && restitution <= 1.0))
+    throw std::invalid_argument("BallKalmanFilter: the restitution must be in [0, 1]");
+  pegs_ = std::move(centres_b_mm);
+  peg_reach_mm_ = reach_mm;
+  restitution_ = restitution;
+}
+
 void BallKalmanFilter::predict(double dt_s) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const double t = dt_s, a = params_.acceleration_mm_s2;
-  x_(0) += x_(2) * t;
-  x_(1) += x_(3) * t + 0.5 * a * t * t;
-  x_(3) += a * t;
+  // The velocity's reflections on the way (identity without a bounce).
+  Eigen::Matrix2d reflect = Eigen::Matrix2d::Identity();
+  if (pegs_.empty()) {
+    x_(0) += x_(2) * t;
+    x_(1) += x_(3) * t + 0.5 * a * t * t;
+    x_(3) += a * t;
+  } else {
+    const int steps = std::max(1, static_cast<int>(std::ceil(t / 0.002)));
+    const double h = t / steps;
+    for (int k = 0; k < steps; ++k) {
+      x_(0) += x_(2) * h;
+      x_(1) += x_(3) * h + 0.5 * a * h * h;
+      x_(3) += a * h;
+      for (const auto& c : pegs_) {
+        const Eigen::Vector2d d = x_.head<2>() - c;
+        const double dist = d.norm();
+        if (dist >= peg_reach_mm_ || dist <= 1e-9) continue;
+        const Eigen::Vector2d n = d / dist;
+        const double vn = x_.tail<2>().dot(n);
+        if (vn >= 0.0) continue;
+        const Eigen::Matrix2d m =
+            Eigen::Matrix2d::Identity() - (1.0 + restitution_) * n * n.transpose();
+        x_.tail<2>() = m * x_.tail<2>();
+        x_.head<2>() = c + n * peg_reach_mm_;
+        reflect = m * reflect;
+        ++peg_bounces_;
+      }
+    }
+  }
   // P = F P F' written out by blocks (F = [I, T I; 0, I]).
   const Eigen::Matrix2d ppp = p_.topLeftCorner<2, 2>();
   const Eigen::Matrix2d ppv = p_.topRightCorner<2, 2>();
@@ -66,6 +106,11 @@ void BallKalmanFilter::predict(double dt_s) {
     p_(i, i + 2) += q * t2 * t / 2.0;
     p_(i + 2, i) += q * t2 * t / 2.0;
     p_(i + 2, i + 2) += q * t2;
+  }
+  if (!reflect.isIdentity()) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.bottomRightCorner<2, 2>() = reflect;
+    p_ = m * p_ * m.transpose();
   }
   since_update_s_ += t;
 }

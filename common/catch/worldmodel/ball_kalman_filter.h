@@ -39,7 +39,17 @@
 // a peg bounce at the board's typical 1-2 m/s. Measurement noise R is the
 // caller's (BallWorldModel maps its pixel sigma through the ray).
 //
+// Known pegs (set_pegs, optional): the mean is carried through a predict
+// in steps of at most 2 ms, and a step that puts the ball into a peg
+// reflects its velocity off the peg (restitution e, no friction) - the
+// bounce the inflation above would otherwise have to find from the
+// measurements; the velocity's covariance is carried through the same
+// reflections (I - (1 + e) n n'). Pegs are circles of radius peg_radius
+// around the given centres (B, mm); the ball's own radius is added.
+//
 // Not thread-safe; one owner.
+
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -82,6 +92,12 @@ class BallKalmanFilter {
   // the current (predicted) time.
   KalmanUpdateResult update(const Eigen::Vector2d& z, const Eigen::Matrix2d& r);
   void reset();
+  // The pegs the predict step bounces the ball off (an empty list = none).
+  // reach_mm = peg radius + ball radius. Throws std::invalid_argument for a
+  // non-finite centre, reach_mm <= 0 or a restitution outside [0, 1].
+  void set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double reach_mm,
+                double restitution = 0.5);
+  int peg_bounces() const { return peg_bounces_; }  // predicted bounces so far
 
   bool initialised() const { return initialised_; }
   const State& state() const { return x_; }
@@ -101,6 +117,10 @@ class BallKalmanFilter {
   double since_update_s_ = 0.0;
   int updates_ = 0;
   int bounces_ = 0;
+  std::vector<Eigen::Vector2d> pegs_;
+  double peg_reach_mm_ = 0.0;
+  double restitution_ = 0.5;
+  int peg_bounces_ = 0;
 };
 
 }  // namespace ephor::catching

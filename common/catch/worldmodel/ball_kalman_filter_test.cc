@@ -121,5 +121,28 @@ TEST(BallKalmanFilterTest, PredictMatchesTheRollingKinematicsAndCovarianceStaysV
   EXPECT_EQ(kf.state(), before);
 }
 
+TEST(BallKalmanFilterTest, PredictBouncesTheBallOffAKnownPeg) {
+  const BoardPlacement placement;
+  BallKalmanFilter filter(params_for(placement));
+  filter.set_pegs({Eigen::Vector2d(290.0, 300.0)}, 26.0);  // 6 mm peg + 20 mm ball
+  // Straight down the slope at 1 m/s towards a peg 10 mm to its left.
+  filter.initialise({300.0, 250.0}, Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.0, 1000.0));
+  for (int i = 0; i < 6; ++i) filter.predict(1.0 / 60.0);
+  EXPECT_EQ(filter.peg_bounces(), 1);
+  EXPECT_GT(filter.velocity().x(), 100.0);  // deflected to the right
+  EXPECT_GE((filter.position() - Eigen::Vector2d(290.0, 300.0)).norm(), 26.0 - 1e-9);
+  // The covariance stays symmetric and positive definite.
+  const Eigen::Matrix4d p = filter.covariance();
+  EXPECT_LT((p - p.transpose()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(p).eigenvalues().minCoeff(), 0.0);
+
+  // Without the peg the ball rolls straight on.
+  BallKalmanFilter free(params_for(placement));
+  free.initialise({300.0, 250.0}, Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.0, 1000.0));
+  for (int i = 0; i < 6; ++i) free.predict(1.0 / 60.0);
+  EXPECT_EQ(free.velocity().x(), 0.0);
+  EXPECT_THROW(free.set_pegs({Eigen::Vector2d(1.0, 1.0)}, 0.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ephor::catching

@@ -102,7 +102,10 @@ class BallWorldModel {
   const BallFrame& update(int64_t capture_utime, const std::optional<Eigen::Vector2d>& centroid_px);
   void reset();
   // The board's pegs for the exit prediction (ExitPredictor::set_pegs).
+  // Both the filter's predict step and the exit prediction bounce the ball
+  // off them.
   void set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double peg_radius_mm) {
+    filter_.set_pegs(centres_b_mm, peg_radius_mm + board_.ball_radius_mm());
     predictor_.set_pegs(std::move(centres_b_mm), peg_radius_mm);
   }
 
