@@ -57,6 +57,11 @@ FILE_INPUTS = {
     "ephor-make-sim-calibration": [],
     "ephor-monitor": [],
     "ephor-planner": ["--calibration", "--workcell"],
+    "ephor-rambo-features": [],
+    "ephor-rambo-planner": [],
+    "ephor-rambo-pose": [],
+    "ephor-rambo-predictor": [],
+    "ephor-rambo-sim": ["--workcell"],
     "ephor-replay": [None],
     "ephor-scheduler": ["--manifest"],
     "ephor-sheriff": [None],
@@ -103,10 +108,6 @@ KNOWN_FAILURES = {
     "ephor-catch-sim": "procs/catch/sim: " + _OTHERS_EDITING,
     "ephor-catch-monitor": "procs/catch/monitor: " + _OTHERS_EDITING,
     "ephor-catch-worldmodel": "procs/catch/worldmodel: " + _OTHERS_EDITING,
-    "ephor-rambo-sim": "procs/rambo/sim: " + _OTHERS_EDITING,
-    "ephor-rambo-pose": "procs/rambo/pose: " + _OTHERS_EDITING,
-    "ephor-rambo-predictor": "procs/rambo/predictor: " + _OTHERS_EDITING,
-    "ephor-rambo-planner": "procs/rambo/planner: " + _OTHERS_EDITING,
 }
 
 TRACE_MARKS = ["terminate called", "what():", "Aborted", "core dumped", "Segmentation fault",

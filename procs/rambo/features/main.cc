@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   add_process_flags(app, args, "features");
   double duration_s = 0.0;
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   app.add_option("--resend-rad", resend_rad,
                  "before that, send again only when the goal moved this far, rad (0.1)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
                  "prune with the last pose when it is at most this old, s (0 = never prune)")
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

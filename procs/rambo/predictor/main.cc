@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
   app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

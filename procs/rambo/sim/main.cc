@@ -24,6 +24,7 @@
 #include <cmath>
 #include <deque>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -40,6 +41,7 @@
 #include "common/arm/arm_workcell.h"
 #include "common/arm/servo_messages.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -251,7 +253,7 @@ int main(int argc, char** argv) {
   app.add_option("--summary", summary_path, "write the run's JSON summary here at the end");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until the run ends)");
   app.add_option("--write-png", png_path, "render the first frame to this PNG and exit");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -469,6 +471,10 @@ int main(int argc, char** argv) {
       out << s.dump(2) << "\n";
       if (!out) spdlog::error("could not write the summary to {}", summary_path);
     }
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-rambo-sim: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
