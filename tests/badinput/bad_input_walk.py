@@ -104,10 +104,6 @@ def base_args(src):
 # are run and reported but do not fail the test. Remove an entry once fixed.
 _OTHERS_EDITING = "its folder was being rewritten when this walk was added (issue 18, item 5 open for it)"
 KNOWN_FAILURES = {
-    "ephor-catch-prim": "procs/catch/prim: " + _OTHERS_EDITING,
-    "ephor-catch-sim": "procs/catch/sim: " + _OTHERS_EDITING,
-    "ephor-catch-monitor": "procs/catch/monitor: " + _OTHERS_EDITING,
-    "ephor-catch-worldmodel": "procs/catch/worldmodel: " + _OTHERS_EDITING,
 }
 
 TRACE_MARKS = ["terminate called", "what():", "Aborted", "core dumped", "Segmentation fault",

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "the run's seed, written into the summary");
   app.add_option("--status-every", every_s, "seconds between status lines (0 = none)")
       ->check(CLI::NonNegativeNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -26,6 +27,7 @@
 #include "common/catch/board_survey.h"
 #include "common/catch/catch_channels.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/lcm/mailbox.h"
@@ -103,7 +105,7 @@ int main(int argc, char** argv) {
                  "back to the ready point (default 150)")
       ->check(CLI::Range(0.0, 10000.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -196,6 +198,10 @@ int main(int argc, char** argv) {
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info("summary: {} goals sent, {} bad messages", goals.load(), bad_messages.load());
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-catch-prim: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -29,6 +29,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -46,6 +47,7 @@
 #include "common/catch/board_model.h"
 #include "common/catch/catch_channels.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -190,7 +192,7 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   app.add_option("--write-png", png_path,
                  "render the first frame with a ball to this PNG and exit");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -345,6 +347,10 @@ int main(int argc, char** argv) {
         "trajectories ignored, {} physics skips",
         p.balls.done(), p.balls.caught(), p.balls.oracle_reachable(), p.frames.load(),
         p.trajectories_refused.load(), p.physics_skips.load());
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-catch-sim: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

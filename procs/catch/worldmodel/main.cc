@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -28,6 +29,7 @@
 #include "common/catch/catch_channels.h"
 #include "common/catch/worldmodel/ball_world_model.h"
 #include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/mailbox.h"
 #include "common/log/log.h"
@@ -100,7 +102,7 @@ int main(int argc, char** argv) {
                "predict the exit as if the board had no pegs (ignore CATCH_PEGS)");
   app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
@@ -212,6 +214,10 @@ int main(int argc, char** argv) {
     std::lock_guard<std::mutex> lock(mutex);
     spdlog::info("summary: {} outputs, {} exits, {} lost, {} bad messages", published.load(),
                  model ? model->exits() : 0, model ? model->lost() : 0, bad_messages.load());
+  } catch (const ephor::ConfigError& e) {
+    // A file given on the command line is bad: one line, status 2 (issue 18).
+    std::cerr << "ephor-catch-worldmodel: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
