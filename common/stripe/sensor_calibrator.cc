@@ -99,6 +99,59 @@ CameraAimResult calibrate_camera_aim(CalibrationRig& rig, const StripeWorkcell& 
   return r;
 }
 
+CameraScaleRollResult calibrate_camera_scale_and_roll(CalibrationRig& rig,
+                                                      const StripeWorkcell& cell,
+                                                      const TrueArm& model,
+                                                      const SensorCalibration& current,
+                                                      const Eigen::Vector2d& spot_xy_mm,
+                                                      double height_mm, double step_mm) {
+  const CameraIntrinsics& k = current.camera;
+  Eigen::Isometry3d cam =
+      look_at(Eigen::Vector3d(spot_xy_mm.x(), spot_xy_mm.y(), height_mm),
+              Eigen::Vector3d(spot_xy_mm.x(), spot_xy_mm.y(), 0.0), Eigen::Vector3d::UnitY());
+  arm::Joints q = StripeWorkcell::reference_joints();
+  auto spot_at = [&](const Eigen::Isometry3d& c) {
+    q = reach(cell, model, c * current.camera_in_flange.inverse(), q, "camera scale");
+    const auto s = find_spot(rig.spot_image(q));
+    if (!s) throw CalibrationError("camera scale: the spot is not in view");
+    return Eigen::Vector2d(s->x() - k.cx_px, s->y() - k.cy_px);
+  };
+  for (int it = 0; it < 5; ++it) {
+    const Eigen::Vector2d d = spot_at(cam);
+    if (d.norm() < 0.02) break;
+    cam.translation() += cam.linear() * Eigen::Vector3d(d.x() * height_mm / k.fx_px,
+                                                        d.y() * height_mm / k.fy_px, 0.0);
+  }
+  // Central differences over +-step along each believed camera axis.
+  auto motion = [&](const Eigen::Vector3d& axis_in_camera) {
+    Eigen::Isometry3d plus = cam, minus = cam;
+    plus.translation() += step_mm * (cam.linear() * axis_in_camera);
+    minus.translation() -= step_mm * (cam.linear() * axis_in_camera);
+    return Eigen::Vector2d((spot_at(plus) - spot_at(minus)) / 2.0);
+  };
+  const Eigen::Vector2d dx = motion(Eigen::Vector3d::UnitX());
+  const Eigen::Vector2d dy = motion(Eigen::Vector3d::UnitY());
+  // If the true camera is the believed one turned by phi about its z, a
+  // camera step s along believed x moves the spot by -(f s / Z)(cos phi,
+  // -sin phi) in the image, a step along y by -(f s / Z)(sin phi, cos phi).
+  const double phi_x = std::atan2(dx.y(), -dx.x());
+  const double phi_y = std::atan2(-dy.x(), -dy.y());
+  const double phi = 0.5 * (phi_x + phi_y);
+  CameraScaleRollResult r;
+  r.updated = current;
+  r.fx_ratio = dx.norm() * height_mm / (step_mm * k.fx_px);
+  r.fy_ratio = dy.norm() * height_mm / (step_mm * k.fy_px);
+  r.updated.camera.fx_px = k.fx_px * r.fx_ratio;
+  r.updated.camera.fy_px = k.fy_px * r.fy_ratio;
+  r.updated.camera_in_flange.linear() =
+      current.camera_in_flange.linear() *
+      Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  r.roll_correction_deg = phi / kDeg;
+  r.x_move_px = dx;
+  r.y_move_px = dy;
+  return r;
+}
+
 ProjectorPlaneResult calibrate_projector_plane(CalibrationRig& rig, const StripeWorkcell& cell,
                                                const TrueArm& model,
                                                const SensorCalibration& current,

@@ -69,6 +69,28 @@ CameraAimResult calibrate_camera_aim(CalibrationRig& rig, const StripeWorkcell& 
                                      const Eigen::Vector2d& spot_xy_mm, double height_mm = 300.0,
                                      double raise_mm = 100.0);
 
+struct CameraScaleRollResult {
+  SensorCalibration updated;
+  double fx_ratio = 1.0;             // new horizontal magnification (fx) over the old
+  double fy_ratio = 1.0;             // new vertical magnification (fy) over the old
+  double roll_correction_deg = 0.0;  // C_T turned about the principal ray by this
+  Eigen::Vector2d x_move_px = Eigen::Vector2d::Zero();  // spot motion per +step along camera x
+  Eigen::Vector2d y_move_px = Eigen::Vector2d::Zero();  // ... along camera y
+};
+
+// Section 4's camera scale and roll: the camera straight down (by the
+// current calibration) `height_mm` above the spot at `spot_xy_mm`, the spot
+// centred, then moved +-step_mm along the camera's believed x and y axes
+// at the same height and orientation. The spot's image motion over the
+// physical motion gives each magnification (fx, fy: the depth is the
+// height the model believes); motion across the expected direction gives
+// the roll about the principal ray, corrected in C_T. Throws
+// CalibrationError when the spot is lost or a pose is out of reach.
+CameraScaleRollResult calibrate_camera_scale_and_roll(
+    CalibrationRig& rig, const StripeWorkcell& cell, const TrueArm& model,
+    const SensorCalibration& current, const Eigen::Vector2d& spot_xy_mm, double height_mm = 300.0,
+    double step_mm = 25.0);
+
 struct ProjectorPlaneResult {
   SensorCalibration updated;
   double normal_change_deg = 0.0;  // between the old and new light-plane normals
