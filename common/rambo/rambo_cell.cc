@@ -26,36 +26,50 @@ Eigen::Isometry3d beam_pose(const Eigen::Vector3d& tip, const Eigen::Vector3d& b
 
 }  // namespace
 
-RamboCell RamboCell::make(int diode_count) {
-  if (diode_count < 1 || diode_count > 4)
-    throw std::invalid_argument("diode count " + std::to_string(diode_count) +
-                                " is outside 1-4 (the target carries four diodes)");
+TargetSpec RamboCell::builtin_target() {
+  TargetSpec t;
   // Lenses on the faces that start turned towards the arm (-x), tubes tilted
   // towards it so that a goal 200 mm out stays within the PUMA's reach.
-  std::vector<Diode> all = {
-      {"front", {-kSx / 2, 20.0, 10.0}, Eigen::Vector3d(-1.0, 0.0, 0.0)},
-      {"top", {-40.0, -20.0, kSz / 2}, Eigen::Vector3d(-1.0, 0.0, 1.0).normalized()},
-      {"right", {-30.0, -kSy / 2, 0.0}, Eigen::Vector3d(-0.5, -1.0, 0.0).normalized()},
-      {"left", {-50.0, kSy / 2, -10.0}, Eigen::Vector3d(-0.5, 1.0, 0.0).normalized()},
+  t.diodes = {
+      {"front", {-kSx / 2, 20.0, 10.0}, Eigen::Vector3d(-1.0, 0.0, 0.0), kStandoffMm},
+      {"top", {-40.0, -20.0, kSz / 2}, Eigen::Vector3d(-1.0, 0.0, 1.0).normalized(), kStandoffMm},
+      {"right", {-30.0, -kSy / 2, 0.0}, Eigen::Vector3d(-0.5, -1.0, 0.0).normalized(), kStandoffMm},
+      {"left", {-50.0, kSy / 2, -10.0}, Eigen::Vector3d(-0.5, 1.0, 0.0).normalized(), kStandoffMm},
   };
-  all.resize(static_cast<std::size_t>(diode_count));
-  std::vector<GoalPoint> goals;
-  for (const Diode& d : all) {
-    GoalPoint g;
-    g.name = d.name;
-    g.in_target = beam_pose(d.lens_mm + kStandoffMm * d.axis, -d.axis);
-    goals.push_back(g);
-  }
   // The box's cut corner turned (180 deg about z) to (-x, -y, +z), towards
   // the arm: a box shows the same image in two poses 180 deg apart unless
   // the cut is in view, and pose estimation must not lock onto the wrong one.
   const TargetModel box = TargetModel::truncated_box(kSx, kSy, kSz, {60.0, 50.0, 40.0});
-  std::vector<Eigen::Vector3d> turned;
-  for (const Eigen::Vector3d& v : box.vertices()) turned.emplace_back(-v.x(), -v.y(), v.z());
-  RamboCell c{
-      TargetModel(turned, box.faces(), goals), all,
-      Eigen::Vector3d(kSy * kSy + kSz * kSz, kSx * kSx + kSz * kSz, kSx * kSx + kSy * kSy) / 12.0,
-      CameraIntrinsics{}};
+  for (const Eigen::Vector3d& v : box.vertices()) t.vertices_mm.emplace_back(-v.x(), -v.y(), v.z());
+  t.faces = box.faces();
+  t.principal_moments_mm2 =
+      Eigen::Vector3d(kSy * kSy + kSz * kSz, kSx * kSx + kSz * kSz, kSx * kSx + kSy * kSy) / 12.0;
+  return t;
+}
+
+RamboCell RamboCell::make(int diode_count) {
+  if (diode_count < 1 || diode_count > 4)
+    throw std::invalid_argument("diode count " + std::to_string(diode_count) +
+                                " is outside 1-4 (the built-in target carries four diodes)");
+  return make(builtin_target(), diode_count);
+}
+
+RamboCell RamboCell::make(const TargetSpec& target, int diode_count) {
+  const int available = static_cast<int>(target.diodes.size());
+  if (diode_count < 1 || diode_count > available)
+    throw std::invalid_argument("diode count " + std::to_string(diode_count) + " is outside 1-" +
+                                std::to_string(available) + " (the target model carries " +
+                                std::to_string(available) + ")");
+  std::vector<Diode> diodes(target.diodes.begin(), target.diodes.begin() + diode_count);
+  std::vector<GoalPoint> goals;
+  for (const Diode& d : diodes) {
+    GoalPoint g;
+    g.name = d.name;
+    g.in_target = beam_pose(d.lens_mm + d.standoff_mm * d.axis, -d.axis);
+    goals.push_back(g);
+  }
+  RamboCell c{TargetModel(target.vertices_mm, target.faces, goals), diodes,
+              target.principal_moments_mm2, CameraIntrinsics{}};
   c.camera.fx_px = c.camera.fy_px = 380.0;  // 80 deg across 640 px: the whole target at 200 mm
   // The camera 60 mm beside the laser on the tool plate, looking along the beam.
   c.camera_in_tool.translation() = Eigen::Vector3d(0.0, -60.0, -40.0);

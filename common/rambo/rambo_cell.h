@@ -15,7 +15,9 @@
 // within kAcceptanceDeg of its optical axis; it is tagged after kRequiredS
 // lit without a break.
 //
-// Missing (issue 17): the model comes from code, not from a model file.
+// The target (vertices, faces, diodes, inertia) comes from a model file
+// (common/rambo/target_model_file.h, deploy/rambo/target.pbtxt);
+// RamboCell::builtin_target() is the same target in code, for unit tests.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,6 +34,16 @@ struct Diode {
   std::string name;
   Eigen::Vector3d lens_mm = Eigen::Vector3d::Zero();  // lens centre, target frame, mm
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();    // optical axis, outward unit, target frame
+  double standoff_mm = 200.0;  // goal point: the laser's tip this far out on the axis, mm
+};
+
+// The target as a model file gives it (target frame, mm), before the checks
+// TargetModel makes.
+struct TargetSpec {
+  std::vector<Eigen::Vector3d> vertices_mm;
+  std::vector<std::vector<int>> faces;
+  std::vector<Diode> diodes;                                        // at most RamboCell::kMaxDiodes
+  Eigen::Vector3d principal_moments_mm2 = Eigen::Vector3d::Ones();  // per unit mass
 };
 
 struct TumblingMotion {
@@ -45,6 +57,10 @@ struct RamboCell {
   static constexpr double kLensRadiusMm = 12.0;
   static constexpr double kRequiredS = 1.0;
   static constexpr double kStandoffMm = 200.0;  // goal point: this far out on the axis, mm
+  // A target carries at most this many diodes: exhaustive ordering (section
+  // 10) computes 109 600 reaching trajectories for 8, and the planner orders
+  // them all each time its task changes.
+  static constexpr int kMaxDiodes = 8;
 
   TargetModel model;  // goals = one per diode, same order
   std::vector<Diode> diodes;
@@ -54,9 +70,16 @@ struct RamboCell {
   arm::Joints start_joints = arm::Joints::Zero();
   double tool_length_mm = 100.0;  // flange to the laser's exit (the tool tip)
 
-  // The cell with `diode_count` (1-4) diodes. Throws std::invalid_argument
-  // for a bad count.
+  // The cell carrying the first `diode_count` diodes of `target`. Throws
+  // std::invalid_argument for a count outside 1..target.diodes.size() or a
+  // bad model (TargetModel's reasons).
+  static RamboCell make(const TargetSpec& target, int diode_count);
+  // The same with builtin_target(): 1-4 diodes.
   static RamboCell make(int diode_count = 4);
+
+  // deploy/rambo/target.pbtxt's first four diodes in code: a 240 x 180 x 140
+  // mm box with one corner cut off, diodes on the faces turned towards the arm.
+  static TargetSpec builtin_target();
 
   // A slow tumble: centred 900 mm out along +x of the base and 100 mm up, turning at
   // spin_deg_s about a seed-drawn axis, drifting at most drift_mm_s.

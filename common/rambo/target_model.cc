@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -75,6 +76,18 @@ TargetModel::TargetModel(std::vector<Eigen::Vector3d> vertices_mm,
       throw std::invalid_argument(o.str());
     }
   }
+}
+
+double TargetModel::surface_distance_mm(const Eigen::Vector3d& p, int* face) const {
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    const double d = normals_[f].dot(p - vertices_[static_cast<std::size_t>(faces_[f][0])]);
+    if (d > best) {
+      best = d;
+      if (face != nullptr) *face = static_cast<int>(f);
+    }
+  }
+  return best;
 }
 
 std::vector<bool> TargetModel::visible_vertices(const Eigen::Vector3d& camera_in_target) const {

@@ -48,6 +48,12 @@ class TargetModel {
   // Outward unit normal of face f (away from the centre: convex model).
   const Eigen::Vector3d& face_normal(int f) const { return normals_[static_cast<std::size_t>(f)]; }
 
+  // The largest signed distance of p (target frame, mm) from the face planes,
+  // > 0 outside: for a convex model 0 on the surface, minus the depth inside,
+  // and outside at most the distance to the surface (equal when a face is
+  // nearest). `face` (optional) gets the plane that gives it.
+  double surface_distance_mm(const Eigen::Vector3d& p, int* face = nullptr) const;
+
   // Vertices on faces that face a camera at `camera_in_target` (mm).
   std::vector<bool> visible_vertices(const Eigen::Vector3d& camera_in_target) const;
   // Edges on at least one face that faces the camera.

@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -23,12 +24,14 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/tagging_planner.h"
+#include "common/rambo/target_model_file.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
@@ -49,8 +52,12 @@ int main(int argc, char** argv) {
   double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 3.0;
   TaggingOptions options;
   double arrive_rad = 0.03, resend_rad = 0.1;
-  app.add_option("--diodes", diodes, "diodes on the target, 1-4 (default 4)")
-      ->check(CLI::Range(1, 4));
+  std::string model_path;
+  app.add_option("--diodes", diodes, "the model's first N diodes are tagged (default 4)")
+      ->check(CLI::Range(1, RamboCell::kMaxDiodes));
+  app.add_option(
+      "--model", model_path,
+      "target model file (common/rambo/target_model.proto; default: the built-in target)");
   app.add_option("--period-ms", period_ms, "planning period, ms (default 200)")
       ->check(CLI::Range(20.0, 5000.0));
   app.add_option("--lead-s", options.lead_s, "aim at the goal this far ahead, s (default 0.3)")
@@ -67,7 +74,7 @@ int main(int argc, char** argv) {
   init_logging(args.name);
 
   try {
-    const RamboCell cell = RamboCell::make(diodes);
+    const RamboCell cell = cell_from_flags(model_path, diodes);
     TaggingPlanner planner(cell, options);
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
@@ -206,6 +213,10 @@ int main(int argc, char** argv) {
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info("summary: {} goals sent, {} bad messages", goals.load(), bad.load());
+  } catch (const ephor::ConfigError& e) {
+    // A bad --model file or --diodes: one line, status 2 (issue 18).
+    std::cerr << "ephor-rambo-planner: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

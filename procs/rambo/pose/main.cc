@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cmath>
 #include <deque>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -24,6 +25,7 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/lcm/mailbox.h"
@@ -31,6 +33,7 @@
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/tagging_planner.h"
+#include "common/rambo/target_model_file.h"
 #include "common/rambo/triangle_pose_estimator.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
@@ -57,12 +60,16 @@ int main(int argc, char** argv) {
   app.add_option("--prior-max-age-s", prior_max_age_s,
                  "prune with the last pose when it is at most this old, s (0 = never prune)")
       ->check(CLI::Range(0.0, 60.0));
+  std::string model_path;
+  app.add_option(
+      "--model", model_path,
+      "target model file (common/rambo/target_model.proto; default: the built-in target)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
-    const RamboCell cell = RamboCell::make(4);
+    const RamboCell cell = cell_from_flags(model_path, 0);
     TrianglePoseOptions options;
     options.method = method == "exact" ? TrianglePoseMethod::kExactPerspective
                                        : TrianglePoseMethod::kParaperspective;
@@ -206,6 +213,10 @@ int main(int argc, char** argv) {
     runtime.stop();
     spdlog::info("summary: {} poses, {} without, {} bad messages", found.load(), not_found.load(),
                  bad.load());
+  } catch (const ephor::ConfigError& e) {
+    // A bad --model file or --diodes: one line, status 2 (issue 18).
+    std::cerr << "ephor-rambo-pose: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

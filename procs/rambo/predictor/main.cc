@@ -13,18 +13,21 @@
 #include <atomic>
 #include <cmath>
 #include <deque>
+#include <iostream>
 #include <mutex>
 #include <string>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/mailbox.h"
 #include "common/log/log.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/rigid_body_pose_predictor.h"
+#include "common/rambo/target_model_file.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
@@ -53,12 +56,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
   app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
+  std::string model_path;
+  app.add_option(
+      "--model", model_path,
+      "target model file (common/rambo/target_model.proto; default: the built-in target)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
 
   try {
-    const RamboCell cell = RamboCell::make(4);
+    const RamboCell cell = cell_from_flags(model_path, 0);
     RigidBodyPosePredictor predictor(cell.principal_moments);
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
@@ -163,6 +170,10 @@ int main(int argc, char** argv) {
     runtime.stop();
     spdlog::info("summary: {} fits, {} failed, {} poses dropped", fits.load(), failures.load(),
                  dropped.load());
+  } catch (const ephor::ConfigError& e) {
+    // A bad --model file or --diodes: one line, status 2 (issue 18).
+    std::cerr << "ephor-rambo-predictor: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

@@ -52,7 +52,9 @@
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/tagging_planner.h"
+#include "common/rambo/target_model_file.h"
 #include "common/rambo/tumbling_body.h"
+#include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
@@ -65,6 +67,7 @@
 #include "ephor/rambo_pose_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
 #include "ephor/rambo_truth_t.hpp"
+#include "ephor/sched_status_t.hpp"
 
 #include "common/rambo/target_renderer.h"
 
@@ -133,6 +136,10 @@ struct World {
   std::deque<PendingPrediction> pending_predictions;
   std::vector<double> prediction_err_mm[3];
   std::optional<rambo_plan_t> first_order, last_plan;
+  // The schedulers' newest status per host (rt, deadline misses so far) and
+  // per process/task (execution time, jobs, misses), from EPHOR_SCHED_STATUS.
+  std::map<std::string, std::pair<bool, int64_t>> sched_hosts;
+  nlohmann::json sched_tasks = nlohmann::json::object();
 
   World(RamboCell c, const TumblingMotion& m, const arm::JointLimits& limits)
       : cell(std::move(c)),
@@ -184,9 +191,17 @@ struct World {
     for (int i = 0; i < indicator.size(); ++i)
       if (indicator.tagged(i)) done.emplace_back(indicator.tagged_at_s(i), i);
     std::sort(done.begin(), done.end());
-    for (const auto& [t, i] : done)
-      tasks.push_back(
-          {{"diode", i}, {"name", cell.diodes[static_cast<std::size_t>(i)].name}, {"tagged_s", t}});
+    // Per task: its place in the order carried out and its time, from the
+    // tag before it (the run's start for the first) to its own tag, s.
+    double previous_s = 0.0;
+    for (const auto& [t, i] : done) {
+      tasks.push_back({{"order", tasks.size() + 1},
+                       {"diode", i},
+                       {"name", cell.diodes[static_cast<std::size_t>(i)].name},
+                       {"tagged_s", t},
+                       {"time_s", t - previous_s}});
+      previous_s = t;
+    }
     j["tasks"] = tasks;
     j["diode_acceptance_deg"] = indicator.acceptance_deg();
     j["diode_lens_radius_mm"] = indicator.lens_radius_mm();
@@ -216,10 +231,19 @@ struct World {
     j["frames"] = frames.load();
     j["trajectories_refused"] = refused.load();
     j["bad_messages"] = bad_messages;
-    j["deadline_misses"] = nullptr;  // not collected: the scheduler's job stats are not read here
-    j["rt"] = nullptr;
-    j["missing"] = {"deadline_misses", "rt",
-                    "pose_error against the paper's peer (solvePnPRansac) in the same run"};
+    // Summed over the hosts' schedulers; rt only when every host ran its
+    // SCHED_FIFO tasks as such (null: no scheduler status heard).
+    int64_t misses = 0;
+    bool rt = true;
+    for (const auto& [host, h] : sched_hosts) {
+      rt = rt && h.first;
+      misses += h.second;
+    }
+    j["deadline_misses"] = sched_hosts.empty() ? nlohmann::json(nullptr) : nlohmann::json(misses);
+    j["rt"] = sched_hosts.empty() ? nlohmann::json(nullptr) : nlohmann::json(rt);
+    j["sched_hosts"] = sched_hosts.size();
+    j["sched_tasks"] = sched_tasks;
+    j["missing"] = {"pose_error against the paper's peer (solvePnPRansac) in the same run"};
     return j;
   }
 };
@@ -237,8 +261,12 @@ int main(int argc, char** argv) {
          duration_s = 0.0;
   std::string workcell_path = "deploy/rambo/workcell.pbtxt", summary_path, png_path;
   app.add_option("--seed", seed, "random seed: tumble axis, tilt, drift, noise (default 1)");
-  app.add_option("--diodes", diodes, "diodes on the target, 1-4 (default 4)")
-      ->check(CLI::Range(1, 4));
+  std::string model_path;
+  app.add_option("--diodes", diodes, "the model's first N diodes are on the target (default 4)")
+      ->check(CLI::Range(1, RamboCell::kMaxDiodes));
+  app.add_option(
+      "--model", model_path,
+      "target model file (common/rambo/target_model.proto; default: the built-in target)");
   app.add_option("--fps", fps, "camera frames per second (default 5)")
       ->check(CLI::Range(0.5, 60.0));
   app.add_option("--noise-px", noise_px, "oracle features: pixel noise sigma (default 0.5)")
@@ -259,7 +287,7 @@ int main(int argc, char** argv) {
   try {
     const geometry::Workcell workcell =
         geometry::load_workcell_file(resolve_repo_path(workcell_path));
-    RamboCell cell = RamboCell::make(diodes);
+    RamboCell cell = cell_from_flags(model_path, diodes);
     if (std::abs(workcell.tool_length_mm - cell.tool_length_mm) > 1e-6)
       throw std::invalid_argument(
           fmt::format("{}: tool_length_mm {} is not the laser's {} mm (common/rambo/rambo_cell.h)",
@@ -341,6 +369,19 @@ int main(int argc, char** argv) {
                       return a.t_eval_s < b.t_eval_s;
                     });
         });
+    bus.subscribe<sched_status_t>(ephor::channels::kSchedStatus, [&w](const sched_status_t& m) {
+      int64_t misses = 0;
+      for (const auto& t : m.tasks) misses += t.deadline_misses;
+      std::lock_guard<std::mutex> lock(w.mutex);
+      w.sched_hosts[m.host] = {m.rt != 0, misses};
+      for (const auto& t : m.tasks)
+        w.sched_tasks[t.process + "/" + t.task] = {
+            {"exec_p50_ms", static_cast<double>(t.exec_p50_us) / 1e3},
+            {"exec_p99_ms", static_cast<double>(t.exec_p99_us) / 1e3},
+            {"jobs", t.jobs},
+            {"deadline_misses", t.deadline_misses},
+            {"rt", t.rt_granted != 0}};
+    });
     bus.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&w](const rambo_plan_t& m) {
       std::lock_guard<std::mutex> lock(w.mutex);
       if (!w.first_order && m.dp_trajectories > 0) w.first_order = m;
