@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "common/catch/board_survey.h"
-#include "procs/shared/display/json_format.h"
+#include "common/display/json_format.h"
 
 namespace ephor::catch_display {
 namespace {

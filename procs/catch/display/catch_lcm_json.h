@@ -4,12 +4,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/display/lcm_json.h"
 #include "ephor/catch_ball_t.hpp"
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "procs/shared/display/lcm_json.h"
 
 namespace ephor {
 

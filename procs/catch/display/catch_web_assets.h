@@ -1,10 +1,10 @@
 #pragma once
 // The catching page's files (web/ here and the shared ephor_page.js/.css),
-// embedded at build time (procs/shared/display/display_page.cmake).
+// embedded at build time (common/display/display_page.cmake).
 
 #include <string_view>
 
-#include "procs/shared/display/web_assets.h"
+#include "common/display/web_assets.h"
 
 namespace ephor::catch_display {
 

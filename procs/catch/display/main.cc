@@ -21,6 +21,7 @@
 #include "common/catch/camera_file.h"
 #include "common/catch/catch_channels.h"
 #include "common/config/repo_paths.h"
+#include "common/display/display_server.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -29,7 +30,6 @@
 #include "procs/catch/display/catch_display_state.h"
 #include "procs/catch/display/catch_lcm_json.h"
 #include "procs/catch/display/catch_web_assets.h"
-#include "procs/shared/display/display_server.h"
 
 namespace {
 

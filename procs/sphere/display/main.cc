@@ -19,12 +19,12 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/display/display_server.h"
 #include "common/lcm/bus.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/sphere_comm/sphere_channels.h"
 #include "common/time/clock.h"
-#include "procs/shared/display/display_server.h"
 #include "procs/sphere/display/sphere_display_state.h"
 #include "procs/sphere/display/sphere_lcm_json.h"
 #include "procs/sphere/display/sphere_web_assets.h"

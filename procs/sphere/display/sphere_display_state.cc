@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "procs/shared/display/json_format.h"
+#include "common/display/json_format.h"
 
 namespace ephor::sphere_display {
 namespace {

@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/display/lcm_json.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "ephor/sphere_guidance_t.hpp"
 #include "ephor/sphere_scan_line_t.hpp"
 #include "ephor/sphere_truth_t.hpp"
-#include "procs/shared/display/lcm_json.h"
 
 namespace ephor {
 

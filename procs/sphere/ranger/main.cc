@@ -41,12 +41,12 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
+#include "common/sphere/world/ranger_world.h"
 #include "common/sphere_comm/sphere_channels.h"
 #include "common/time/clock.h"
 #include "ephor/sphere_guidance_t.hpp"
 #include "ephor/sphere_scan_line_t.hpp"
 #include "ephor/sphere_truth_t.hpp"
-#include "procs/sphere/ranger/ranger_world.h"
 
 namespace {
 

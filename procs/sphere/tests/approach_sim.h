@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <string>
 
+#include "common/sphere/guidance/sphere_guidance.h"
 #include "common/sphere/sphere_locator.h"
-#include "procs/sphere/guidance/sphere_guidance.h"
-#include "procs/sphere/ranger/ranger_world.h"
+#include "common/sphere/world/ranger_world.h"
 
 namespace ephor::sphere {
 
