@@ -1,5 +1,6 @@
 #include "common/stripe/pyramid_apex.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -32,8 +33,29 @@ std::optional<PyramidApex> PyramidApex::locate(const std::vector<Eigen::Vector3d
       r.face_points[f] = faces[f].size();
       r.face_rms_mm[f] = 0.0;
       if (faces[f].size() < options.min_face_points) continue;
-      const auto fit = PlaneFit::fit(faces[f]);
+      auto fit = PlaneFit::fit(faces[f]);
+      // Points of another face or the table that fell on this side of the
+      // split (a ridge seen at grazing incidence, a stripe's end) tilt the
+      // plane: drop those beyond 3 sigma and fit again.
+      for (int trim = 0; fit && trim < options.trim_rounds; ++trim) {
+        const double limit = std::max(3.0 * fit->rms_mm, options.min_trim_mm);
+        std::vector<Eigen::Vector3d> kept;
+        for (const auto& p : faces[f])
+          if (std::abs(fit->normal.dot(p - fit->centroid)) <= limit) kept.push_back(p);
+        if (kept.size() == faces[f].size() || kept.size() < options.min_face_points) break;
+        faces[f].swap(kept);
+        fit = PlaneFit::fit(faces[f]);
+      }
       if (!fit) continue;
+      r.face_points[f] = faces[f].size();
+      // A face seen along one or two stripes only (a narrow band) has its
+      // plane free to turn about the band: leave it out.
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const auto& p : faces[f]) cov += (p - fit->centroid) * (p - fit->centroid).transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spread(
+          cov / static_cast<double>(faces[f].size()));
+      if (!(std::sqrt(std::max(0.0, spread.eigenvalues()[1])) >= options.min_face_spread_mm))
+        continue;
       a.row(f) = fit->normal.transpose();
       b[f] = fit->normal.dot(fit->centroid);
       r.face_rms_mm[f] = fit->rms_mm;

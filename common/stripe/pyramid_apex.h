@@ -4,8 +4,8 @@
 // of the pyramid in the range image"). Instead of a cursor: the points
 // above the table are split by face (the dominant horizontal direction from
 // the current apex estimate; faces facing +-x and +-y), a plane is fitted to
-// each face and the apex is the least-squares meeting point of the four
-// planes; twice, each time splitting about the new apex.
+// each face (outliers trimmed) and the apex is the least-squares meeting
+// point of the four planes; again, each time splitting about the new apex.
 
 #include <optional>
 #include <vector>
@@ -19,6 +19,13 @@ struct PyramidApexOptions {
   double ridge_margin_mm = 3.0;  // ignore points this near a ridge (| |dx| - |dy| | small)
   size_t min_face_points = 20;   // a face with fewer points gives no plane
   int iterations = 3;
+  // Per face, points beyond max(3 sigma, min_trim_mm) of its plane are
+  // dropped and the plane fitted again, up to trim_rounds times.
+  int trim_rounds = 3;
+  double min_trim_mm = 0.3;
+  // A face whose points spread less than this (1 sigma, mm) across their
+  // main direction is left out.
+  double min_face_spread_mm = 6.0;
 };
 
 struct PyramidApex {

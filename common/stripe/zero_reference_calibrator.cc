@@ -125,6 +125,7 @@ std::vector<arm::Joints> ZeroReferenceCalibrator::plan(const TrueArm& model,
   static const arm::Puma560 puma(0.0);
   const Eigen::Vector3d spot(spot_mm.x(), spot_mm.y(), 0.0);
   std::vector<arm::Joints> out;
+  size_t pose = 0;
   for (double dist : options_.distances_mm)
     for (double tilt_deg : options_.tilts_deg)
       for (int a = 0; a < (tilt_deg == 0.0 ? 1 : options_.azimuths); ++a)
@@ -136,7 +137,12 @@ std::vector<arm::Joints> ZeroReferenceCalibrator::plan(const TrueArm& model,
                                             std::sin(tilt) * std::sin(az), std::cos(tilt));
           const Eigen::Vector3d hint(std::cos(az + roll + std::numbers::pi / 2),
                                      std::sin(az + roll + std::numbers::pi / 2), 0.0);
-          const Eigen::Isometry3d cam = look_at(eye, spot, hint);
+          const int turn = static_cast<int>(pose++ % 8);
+          const double off = turn % 2 == 0 ? 0.0 : options_.aim_offset_mm;
+          const double off_az = std::numbers::pi / 2 * (turn / 2);
+          const Eigen::Vector3d aim =
+              spot + off * Eigen::Vector3d(std::cos(off_az), std::sin(off_az), 0.0);
+          const Eigen::Isometry3d cam = look_at(eye, aim, hint);
           const Eigen::Isometry3d flange_in_base =
               cell_.base_in_table.inverse() * cam * current.camera_in_flange.inverse();
           // Every branch: righty and lefty, elbow up and down, wrist flipped.

@@ -52,6 +52,11 @@ struct ZeroReferenceOptions {
   std::vector<double> tilts_deg = {0.0, 20.0, 35.0};
   int azimuths = 4;
   std::vector<double> rolls_deg = {0.0, 90.0};
+  // The principal ray is aimed this far (mm, on the table) from the spot,
+  // in turn +x, +y, -x, -y of the table, every other pose: with the spot
+  // only ever at the image centre the camera's roll about its ray would
+  // hardly show.
+  double aim_offset_mm = 30.0;
   // Arm configurations whose elbow or wrist centre comes nearer the table
   // than this are not used (a lab keeps the arm off the table).
   double min_clearance_mm = 60.0;

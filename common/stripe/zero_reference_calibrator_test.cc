@@ -90,6 +90,24 @@ TEST(ZeroReferenceCalibratorTest, NoiseAndLinkErrorsLeaveASmallBias) {
   EXPECT_LT(r.lefty_righty_gap_after_mm, 0.2 * r.lefty_righty_gap_before_mm);
 }
 
+// Image noise alone (seed 3's zero references and cage, links exact):
+// what the sightings' noise leaves on the joints, apart from link errors.
+TEST(ZeroReferenceCalibratorTest, ImageNoiseAloneLeavesThousandthsOfADegree) {
+  RobotTruth truth = RobotTruth::draw(3);
+  ArmErrors e = truth.arm.errors();
+  e.dh_error = {};
+  truth.arm = TrueArm(e);
+  const StripeScene table;
+  const StripeWorld world(table, StripeWorkcell{}, truth);
+  SimulatedRig rig(world, 31);
+  const ZeroReferenceCalibrator cal{StripeWorkcell{}};
+  const ZeroReferenceResult r =
+      cal.calibrate(rig, TrueArm::nominal(), SensorCalibration::drawing_cage());
+  for (int j = 1; j < 5; ++j)
+    EXPECT_NEAR(r.zero_offset_rad[j] / kDeg, e.zero_offset_rad[j] / kDeg, 0.002)  // 0.0002 seen
+        << "joint " << j + 1;
+}
+
 TEST(ZeroReferenceCalibratorTest, NoSpotIsAClearError) {
   BlindRig rig;
   const ZeroReferenceCalibrator cal{StripeWorkcell{}};

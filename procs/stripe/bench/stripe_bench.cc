@@ -2,9 +2,11 @@
 // (section 5): random error on a flat plate, stripes processed per second
 // (image to 3-D points), whole-scene accuracy against the true surfaces,
 // and, with a seeded imperfect robot, the direction-dependent error of a
-// pyramid's apex under the nominal model.
+// pyramid's apex before and after each calibration stage (sections 3 and
+// 4), with the zero references found against the truth.
 //
 //   ephor-bench-stripe [--json FILE] [--out-dir DIR] [--seed N] [--robot-seeds N]
+//                      [--sections random,scene,direction]
 
 #include <algorithm>
 #include <chrono>
@@ -25,6 +27,7 @@
 #include "common/stripe/plane_fit.h"
 #include "common/stripe/sensor_calibrator.h"
 #include "common/stripe/stripe_scan.h"
+#include "common/stripe/zero_reference_calibrator.h"
 
 namespace ephor::stripe {
 namespace {
@@ -187,9 +190,14 @@ nlohmann::json whole_scene(const std::string& scenes, std::uint64_t seed,
 }
 
 // D: the pyramid's apex from 20 views (section 5) by robots whose arm and
-// cage differ from the nominal model (per robot seed), computed with the
-// nominal model and the drawing cage: the error before any calibration.
-nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed, int robot_seeds) {
+// cage differ from the nominal model (per robot seed), after each stage of
+// calibration: the nominal model (none), section 4 alone, section 3's zero
+// references found by ZeroReferenceCalibrator and then section 4's steps,
+// and, for comparison, the true zero references handed over (an oracle).
+// Every calibration runs on the empty table (its spot at the origin)
+// through the rig, with image noise; the figures are on the pyramid.
+nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed, int robot_seeds,
+                                   nlohmann::json& calibration) {
   const StripeScene scene = StripeScene::load(scene_path(scenes, "pyramid"));
   const Eigen::Vector3d apex(0, 0, 60);
   const auto views = section5_views();
@@ -198,85 +206,188 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
       "Direction-dependent error (section 5): pyramid apex from %zu views (approach "
       "down / tilted 25 deg from +-x, +-y; stripes along x / y; 270 / 330 mm)\n",
       views.size());
-  std::printf("  %-10s %-38s %8s %14s %14s %9s %9s\n", "robot", "model", "located",
+  std::printf("  %-10s %-44s %8s %14s %14s %9s %9s\n", "robot", "model", "located",
               "worst_shift_mm", "worst_abs_mm", "cam_deg", "plane_deg");
   const StripeScene table;  // calibration on the empty table, its spot at the origin
+  const Eigen::Vector2d spot(0, 0);
+  const StripeWorkcell cell;
+  struct ZeroRow {
+    int robot_seed;
+    arm::Joints truth, found;
+    ZeroReferenceResult result;
+    double camera_mm, camera_deg;
+  };
+  std::vector<ZeroRow> zero_rows;
   for (int rs = 0; rs <= robot_seeds; ++rs) {
     const RobotTruth truth = rs == 0 ? RobotTruth::ideal() : RobotTruth::draw(rs);
-    const StripeWorld world(scene, StripeWorkcell{}, truth);
-    const StripeWorld bench_table(table, StripeWorkcell{}, truth);
+    const StripeWorld world(scene, cell, truth);
+    const StripeWorld bench_table(table, cell, truth);
     SimulatedRig rig(bench_table, seed + 1000);
     const std::string robot = rs == 0 ? "ideal" : "seed " + std::to_string(rs);
     nlohmann::json j = {{"robot_seed", rs}, {"views", views.size()}};
     for (double z : truth.arm.errors().zero_offset_rad)
       j["true_zero_offset_deg"].push_back(z * 180 / kPi);
-    // Stages: the nominal model, then section 4's camera aim, then its
-    // projector plane (each from the previous one's calibration).
-    // Arm models: the nominal one (section 3 not done), then the true zero
-    // references handed over as if section 3 had measured them perfectly (an
-    // oracle, not a calibration: the link errors stay unmodelled) to show
-    // what section 4's steps give on a zeroed arm.
-    for (int variant = 0; variant < (rs == 0 ? 1 : 2); ++variant) {
-      SensorCalibration cal = SensorCalibration::drawing_cage();
-      const TrueArm model = variant == 0
-                                ? TrueArm::nominal()
-                                : TrueArm::with_zero_offsets(truth.arm.errors().zero_offset_rad);
-      const std::string arm_name = variant == 0 ? "" : "zero refs known ";
-      for (int stage = 0; stage < 3; ++stage) {
-        std::string name = "nominal (drawing cage)";
-        nlohmann::json correction;
-        try {
-          if (stage == 1) {
-            const CameraAimResult aim =
-                calibrate_camera_aim(rig, StripeWorkcell{}, model, cal, Eigen::Vector2d(0, 0));
-            cal = aim.updated;
-            name = "+ camera aim";
-            correction = {{"camera_aim_correction_deg", aim.correction_deg}};
-          } else if (stage == 2) {
-            const ProjectorPlaneResult pp =
-                calibrate_projector_plane(rig, StripeWorkcell{}, model, cal, Eigen::Vector2d(0, 0));
-            cal = pp.updated;
-            name = "+ projector plane";
-            correction = {{"plane_normal_change_deg", pp.normal_change_deg},
-                          {"plane_offset_change_mm", pp.offset_change_mm},
-                          {"plane_fit_rms_mm", pp.rms_mm}};
-          }
-        } catch (const CalibrationError& e) {
-          std::printf("  %-10s %-38s failed: %s\n", robot.c_str(), (arm_name + name).c_str(),
-                      e.what());
-          j["stages"].push_back({{"stage", arm_name + name}, {"error", e.what()}});
-          break;
+    // The camera as the software can know it: joint 6's zero-reference
+    // error folded into C_T (no camera measurement separates them).
+    const Eigen::Isometry3d true_camera =
+        Eigen::Isometry3d(
+            Eigen::AngleAxisd(truth.arm.errors().zero_offset_rad[5], Eigen::Vector3d::UnitZ())) *
+        truth.cage.camera_in_flange;
+    // The cage as a model with its own joint 6 zero reference sees it.
+    auto seen = [&](const TrueArm& model, const Eigen::Isometry3d& in_flange) {
+      return Eigen::Isometry3d(Eigen::AngleAxisd(
+                 truth.arm.errors().zero_offset_rad[5] - model.errors().zero_offset_rad[5],
+                 Eigen::Vector3d::UnitZ())) *
+             in_flange;
+    };
+    auto row = [&](const std::string& name, const TrueArm& model, const SensorCalibration& cal,
+                   const nlohmann::json& correction) {
+      const RangeFinder finder(cell, model, cal);
+      const DirectionError e = measure_direction_error(world, finder, views, apex, seed);
+      const Eigen::Isometry3d tc = seen(model, truth.cage.camera_in_flange);
+      const Eigen::Isometry3d tp = seen(model, truth.cage.projector_in_flange);
+      const double cam_axis_err =
+          std::acos(
+              std::clamp(cal.camera_in_flange.linear().col(2).dot(tc.linear().col(2)), -1.0, 1.0)) *
+          180 / kPi;
+      const double plane_err =
+          std::acos(
+              std::clamp(std::abs(cal.projector_in_flange.linear().col(0).dot(tp.linear().col(0))),
+                         -1.0, 1.0)) *
+          180 / kPi;
+      std::printf("  %-10s %-44s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f\n", robot.c_str(),
+                  name.c_str(), e.located, views.size(), e.worst_from_mean_mm,
+                  e.worst_from_truth_mm, cam_axis_err, plane_err);
+      std::fflush(stdout);
+      nlohmann::json apexes = nlohmann::json::array();
+      for (size_t v = 0; v < views.size(); ++v)
+        apexes.push_back(e.apex_mm[v] ? nlohmann::json{{"view", views[v].label},
+                                                       {"x", e.apex_mm[v]->x()},
+                                                       {"y", e.apex_mm[v]->y()},
+                                                       {"z", e.apex_mm[v]->z()}}
+                                      : nlohmann::json{{"view", views[v].label}});
+      j["stages"].push_back({{"stage", name},
+                             {"apex_mm", apexes},
+                             {"correction", correction},
+                             {"located", e.located},
+                             {"unreachable_poses", e.unreachable_poses},
+                             {"worst_shift_from_mean_mm", e.worst_from_mean_mm},
+                             {"worst_from_true_apex_mm", e.worst_from_truth_mm},
+                             {"camera_axis_error_deg", cam_axis_err},
+                             {"light_plane_normal_error_deg", plane_err}});
+    };
+    auto failed = [&](const std::string& name, const CalibrationError& e) {
+      std::printf("  %-10s %-44s failed: %s\n", robot.c_str(), name.c_str(), e.what());
+      j["stages"].push_back({{"stage", name}, {"error", e.what()}});
+    };
+    // Section 4's steps from `cal` on the arm `model`, each a row.
+    auto section4 = [&](const std::string& prefix, const TrueArm& model, SensorCalibration cal,
+                        bool aim, bool scale) {
+      std::string name = prefix;
+      try {
+        if (aim) {
+          const CameraAimResult a = calibrate_camera_aim(rig, cell, model, cal, spot);
+          cal = a.updated;
+          name += " + camera aim";
+          row(name, model, cal, {{"camera_aim_correction_deg", a.correction_deg}});
         }
-        const RangeFinder finder(StripeWorkcell{}, model, cal);
-        const DirectionError e = measure_direction_error(world, finder, views, apex, seed);
-        const double cam_axis_err =
-            std::acos(std::clamp(cal.camera_in_flange.linear().col(2).dot(
-                                     truth.cage.camera_in_flange.linear().col(2)),
-                                 -1.0, 1.0)) *
-            180 / kPi;
-        const double plane_err =
-            std::acos(std::clamp(cal.projector_in_flange.linear().col(0).dot(
-                                     truth.cage.projector_in_flange.linear().col(0)),
-                                 -1.0, 1.0)) *
-            180 / kPi;
-        name = arm_name + name;
-        std::printf("  %-10s %-38s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f\n", robot.c_str(),
-                    name.c_str(), e.located, views.size(), e.worst_from_mean_mm,
-                    e.worst_from_truth_mm, cam_axis_err, plane_err);
-        j["stages"].push_back({{"stage", name},
-                               {"correction", correction},
-                               {"located", e.located},
-                               {"unreachable_poses", e.unreachable_poses},
-                               {"worst_shift_from_mean_mm", e.worst_from_mean_mm},
-                               {"worst_from_true_apex_mm", e.worst_from_truth_mm},
-                               {"camera_axis_error_deg", cam_axis_err},
-                               {"light_plane_normal_error_deg", plane_err}});
+        if (scale) {
+          const CameraScaleRollResult c =
+              calibrate_camera_scale_and_roll(rig, cell, model, cal, spot);
+          cal = c.updated;
+          name += " + scale/roll";
+          row(name, model, cal,
+              {{"fx_ratio", c.fx_ratio},
+               {"fy_ratio", c.fy_ratio},
+               {"roll_correction_deg", c.roll_correction_deg}});
+        }
+        const ProjectorPlaneResult pp = calibrate_projector_plane(rig, cell, model, cal, spot);
+        cal = pp.updated;
+        name += " + projector plane";
+        row(name, model, cal,
+            {{"plane_normal_change_deg", pp.normal_change_deg},
+             {"plane_offset_change_mm", pp.offset_change_mm},
+             {"plane_fit_rms_mm", pp.rms_mm}});
+      } catch (const CalibrationError& e) {
+        failed(name + " (next step)", e);
       }
+    };
+    const SensorCalibration drawing = SensorCalibration::drawing_cage();
+    row("nominal arm, drawing cage", TrueArm::nominal(), drawing, {});
+    if (rs == 0) {
+      out.push_back(j);
+      continue;
     }
+    section4("nominal arm", TrueArm::nominal(), drawing, true, false);
+    // Section 3 by the camera, then section 4's steps in the paper's order
+    // (on the drawing cage), and section 4's projector step on the C_T the
+    // zero-reference fit found with the joints.
+    try {
+      const ZeroReferenceCalibrator zc(cell);
+      const ZeroReferenceResult z = zc.calibrate(rig, TrueArm::nominal(), drawing);
+      const TrueArm zeroed = TrueArm::with_zero_offsets(z.zero_offset_rad);
+      const Eigen::Isometry3d& fc = z.updated.camera_in_flange;
+      zero_rows.push_back(
+          {rs, truth.arm.errors().zero_offset_rad, z.zero_offset_rad, z,
+           (fc.translation() - true_camera.translation()).norm(),
+           Eigen::AngleAxisd(fc.linear().transpose() * true_camera.linear()).angle() * 180 / kPi});
+      nlohmann::json zj = {{"rms_px", z.rms_px},
+                           {"sightings", z.sightings},
+                           {"lefty_righty_gap_before_mm", z.lefty_righty_gap_before_mm},
+                           {"lefty_righty_gap_after_mm", z.lefty_righty_gap_after_mm}};
+      for (int k = 0; k < 6; ++k) zj["correction_deg"].push_back(z.correction_rad[k] * 180 / kPi);
+      row("zero refs, drawing cage", zeroed, drawing, zj);
+      section4("zero refs", zeroed, drawing, true, true);
+      row("zero refs, fitted C_T", zeroed, z.updated, zj);
+      section4("zero refs, fitted C_T", zeroed, z.updated, false, false);
+    } catch (const CalibrationError& e) {
+      failed("zero references", e);
+    }
+    const TrueArm oracle = TrueArm::with_zero_offsets(truth.arm.errors().zero_offset_rad);
+    row("oracle zero refs, drawing cage", oracle, drawing, {});
+    section4("oracle zero refs", oracle, drawing, true, false);
     out.push_back(j);
   }
   std::printf("  paper: worst +-%.0f mm; target <= %.0f mm worst after calibration\n",
               paper::kDirectionErrorMm, target::kDirectionErrorMm);
+
+  // The zero references found (section 3) against the truth, per joint.
+  std::printf(
+      "Calibration (section 3): zero references found by the camera (%s) vs the truth, deg;"
+      " joint 6 goes into C_T\n",
+      "spot sightings from every arm branch, image noise on");
+  std::printf("  %-8s %5s %9s %9s %9s   %s\n", "robot", "joint", "true_deg", "found_deg",
+              "error_deg", "");
+  calibration = nlohmann::json::array();
+  for (const ZeroRow& z : zero_rows) {
+    nlohmann::json c = {{"robot_seed", z.robot_seed}};
+    double worst = 0.0;
+    for (int k = 1; k < 5; ++k) {
+      const double t = z.truth[k] * 180 / kPi, f = z.found[k] * 180 / kPi;
+      worst = std::max(worst, std::abs(f - t));
+      std::printf("  seed %-3d %5d %9.4f %9.4f %9.4f\n", z.robot_seed, k + 1, t, f, f - t);
+      c["joints"].push_back({{"joint", k + 1}, {"true_deg", t}, {"found_deg", f}});
+    }
+    std::printf("  seed %-3d %5d %9.4f %9s (in C_T)\n", z.robot_seed, 6, z.truth[5] * 180 / kPi,
+                "-");
+    std::printf(
+        "  seed %-3d worst %.4f deg; camera pose (joint 6 folded in) off %.3f mm / %.4f deg;"
+        " fit %.3f px rms over %zu sightings (%d lefty); lefty-righty spot gap %.2f -> %.3f mm;"
+        " condition %.0f\n",
+        z.robot_seed, worst, z.camera_mm, z.camera_deg, z.result.rms_px, z.result.sightings,
+        z.result.lefty_sightings, z.result.lefty_righty_gap_before_mm,
+        z.result.lefty_righty_gap_after_mm, z.result.condition);
+    c["worst_error_deg"] = worst;
+    c["joint6_true_deg"] = z.truth[5] * 180 / kPi;
+    c["camera_position_error_mm"] = z.camera_mm;
+    c["camera_rotation_error_deg"] = z.camera_deg;
+    c["rms_px"] = z.result.rms_px;
+    c["sightings"] = z.result.sightings;
+    c["lefty_righty_gap_before_mm"] = z.result.lefty_righty_gap_before_mm;
+    c["lefty_righty_gap_after_mm"] = z.result.lefty_righty_gap_after_mm;
+    calibration.push_back(c);
+  }
+  std::printf("  paper: repeatability +-0.1 deg; target <= 0.02 deg\n");
   return out;
 }
 
@@ -286,13 +397,17 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
 int main(int argc, char** argv) {
   using namespace ephor::stripe;
   CLI::App app{"ephor-bench-stripe: paper 004's figures (section 5) on this machine"};
-  std::string json_path, out_dir, scenes = "deploy/stripe/scenes";
+  std::string json_path, out_dir, scenes = "deploy/stripe/scenes",
+                                  sections = "random,scene,direction";
   std::uint64_t seed = 1;
   int robot_seeds = 3;
   app.add_option("--json", json_path, "write the results as JSON");
   app.add_option("--out-dir", out_dir, "write the scanned clouds as PLY files here");
   app.add_option("--scenes", scenes, "folder of the scene OBJ files");
   app.add_option("--seed", seed, "first image-noise seed");
+  app.add_option("--sections", sections,
+                 "which parts to run, comma-separated: random, scene, direction (with the"
+                 " calibration)");
   app.add_option("--robot-seeds", robot_seeds,
                  "imperfect robots (seeds 1..N) for the direction-dependent error")
       ->check(CLI::Range(0, 1000));
@@ -310,9 +425,15 @@ int main(int argc, char** argv) {
   }
   try {
     nlohmann::json out;
-    out["random_error"] = random_error_and_speed(scenes, seed, out_dir);
-    out["whole_scene"] = whole_scene(scenes, seed, out_dir);
-    out["direction_dependent"] = direction_dependent(scenes, seed, robot_seeds);
+    if (sections.find("random") != std::string::npos)
+      out["random_error"] = random_error_and_speed(scenes, seed, out_dir);
+    if (sections.find("scene") != std::string::npos)
+      out["whole_scene"] = whole_scene(scenes, seed, out_dir);
+    if (sections.find("direction") != std::string::npos) {
+      nlohmann::json calibration;
+      out["direction_dependent"] = direction_dependent(scenes, seed, robot_seeds, calibration);
+      out["calibration"] = calibration;
+    }
     out["paper_direction_error_mm"] = paper::kDirectionErrorMm;
     out["target_direction_error_mm"] = target::kDirectionErrorMm;
     if (!json_path.empty()) {
