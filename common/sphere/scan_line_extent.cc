@@ -94,16 +94,35 @@ double azimuth_step(const Window& window) {
   return *mid;
 }
 
+// The alignment of eq. 12-13 for a slope of elevation on azimuth: theta =
+// atan(slope) with its cosine and sine (once per window and scan direction
+// when the slope is the window's; per line for the paper's own fits).
+struct Alignment {
+  double slope = 0.0;
+  double ct = 1.0, st = 0.0;  // cos and sin of theta, without the library calls
+  double theta = 0.0;
+  static Alignment of_slope(double slope) {
+    Alignment a;
+    a.slope = slope;
+    a.ct = 1.0 / std::sqrt(1.0 + slope * slope);
+    a.st = slope * a.ct;
+    a.theta = small_atan(slope);
+    return a;
+  }
+};
+
 // The slope of elevation on azimuth of the window's lines, per scan
 // direction (index 0: azimuth increasing, 1: decreasing): the sums of the
-// lines' end-to-end changes, over at most 64 lines of each direction spread
-// over the window. NaN for a direction without lines.
+// lines' end-to-end changes, over at most 128 lines of each direction spread
+// over the window. Unset for a direction without lines.
 struct WindowSlope {
-  double by_direction[2] = {std::nan(""), std::nan("")};
-  double of(const ScanLine& line) const {
+  Alignment by_direction[2];
+  bool known[2] = {false, false};
+  // The alignment for `line`, or nullptr when its direction had no lines.
+  const Alignment* of(const ScanLine& line) const {
     const size_t n = line.pulses.size();
-    if (n < 2) return by_direction[0];
-    return by_direction[line.pulses[n - 1].azimuth_rad >= line.pulses[0].azimuth_rad ? 0 : 1];
+    const int dir = n < 2 || line.pulses[n - 1].azimuth_rad >= line.pulses[0].azimuth_rad ? 0 : 1;
+    return known[dir] ? &by_direction[dir] : nullptr;
   }
 };
 
@@ -120,7 +139,9 @@ WindowSlope window_slope(const Window& window) {
   }
   WindowSlope w;
   for (int dir = 0; dir < 2; ++dir) {
-    if (da[dir] != 0.0) w.by_direction[dir] = de[dir] / da[dir];
+    if (da[dir] == 0.0) continue;
+    w.by_direction[dir] = Alignment::of_slope(de[dir] / da[dir]);
+    w.known[dir] = true;
   }
   return w;
 }
@@ -133,16 +154,45 @@ struct Rejections {
 // Per-point work arrays, reused over the lines of a window (no allocation
 // per line once they have grown to the longest line).
 struct LineScratch {
-  std::vector<double> r, dd, xx, w;
+  std::vector<double> dd, xx, w;
 };
 
-// One line's estimate before its sign is chosen (eq. 12-28), written into
-// `e`; false (and the reason counted) when the line is not usable.
-// `known_slope`: the window's alignment slope for this line, NaN to fit the
-// line's own (the paper's).
-bool extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line, size_t index,
-               std::span<const size_t> hits, double delta, double known_slope, Rejections& rejected,
-               LineScratch& scratch, LineExtent& e) {
+// One line's estimate before its sign is chosen (eq. 12-28). What depends
+// only on the configuration and the window (the pulse step, the noise
+// terms, the window's alignments) is worked out once per window here, not
+// once per line.
+class LineSolver {
+ public:
+  LineSolver(const ScanLineExtentConfig& cfg, double delta, const WindowSlope* slopes)
+      : cfg_(cfg),
+        slopes_(slopes),
+        delta_(cfg.edge_correction ? delta : 0.0),
+        sig_lambda2_(2.0 * cfg.angle_sigma_rad * cfg.angle_sigma_rad +
+                     (cfg.edge_correction ? delta * delta / 6.0 : 0.0)),
+        sig_lambda_(std::sqrt(sig_lambda2_)),
+        sr2_(cfg.range_sigma_m * cfg.range_sigma_m),
+        sa2_(cfg.angle_sigma_rad * cfg.angle_sigma_rad),
+        quant_(cfg.edge_correction ? delta * delta / 12.0 : 0.0),
+        iterations_(std::max(1, cfg.iterations)) {}
+
+  // Writes the line's estimate into `e`; false (and the reason counted)
+  // when the line is not usable. `hits`: the line's foreground pulses.
+  bool solve(const ScanLine& line, size_t index, std::span<const size_t> hits, Rejections& rejected,
+             LineScratch& scratch, LineExtent& e) const;
+
+ private:
+  const ScanLineExtentConfig& cfg_;
+  const WindowSlope* slopes_;        // nullptr: each line fits its own (the paper's)
+  double delta_;                     // the edge correction added to the extent, rad
+  double sig_lambda2_, sig_lambda_;  // the extent's variance (rad^2) and sigma
+  double sr2_, sa2_;                 // range (m^2) and angle (rad^2) variances
+  double quant_;                     // the pulse spacing's quantisation variance, rad^2
+  int iterations_;
+};
+
+bool LineSolver::solve(const ScanLine& line, size_t index, std::span<const size_t> hits,
+                       Rejections& rejected, LineScratch& scratch, LineExtent& e) const {
+  const ScanLineExtentConfig& cfg = cfg_;
   if (hits.empty()) return false;
   // Section 3: a line whose edge of the sphere cannot be found (the sphere
   // cut by the frame's side, or the line cut by the window) is useless.
@@ -155,6 +205,7 @@ bool extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line, size_t ind
     ++rejected.too_few;
     return false;
   }
+  const double inv_m = 1.0 / m;
   // Every field of `e` is written here or in finish(): no reset (a zeroing
   // of the whole struct per line showed in the profile).
   e.line_index = index;
@@ -165,97 +216,108 @@ bool extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line, size_t ind
 
   // Eq. 12-13: align the line with the azimuth axis. The slope theta of
   // elevation on azimuth; we rotate by -theta (the printed +theta doubles
-  // the slope), eq. 32-33 rotate back. One pass of sums about the first
-  // point (small numbers: no cancellation).
-  double slope = std::isfinite(known_slope) ? known_slope : 0.0;
-  if (!std::isfinite(known_slope) && m >= 3) {
-    double sa = 0.0, se = 0.0, saa = 0.0, sae = 0.0;
-    for (size_t i : hits) {
-      const double da = line.pulses[i].azimuth_rad - first.azimuth_rad;
-      const double de = line.pulses[i].elevation_rad - first.elevation_rad;
-      sa += da;
-      se += de;
-      saa += da * da;
-      sae += da * de;
+  // the slope), eq. 32-33 rotate back. The window's slope, or the line's own
+  // from one pass of sums about the first point (small numbers: no
+  // cancellation).
+  const Alignment* known = slopes_ ? slopes_->of(line) : nullptr;
+  Alignment own;
+  if (!known) {
+    double slope = 0.0;
+    if (m >= 3) {
+      double sa = 0.0, se = 0.0, saa = 0.0, sae = 0.0;
+      for (size_t i : hits) {
+        const double da = line.pulses[i].azimuth_rad - first.azimuth_rad;
+        const double de = line.pulses[i].elevation_rad - first.elevation_rad;
+        sa += da;
+        se += de;
+        saa += da * da;
+        sae += da * de;
+      }
+      const double var = saa - sa * sa * inv_m;
+      if (var > 0.0) slope = (sae - sa * se * inv_m) / var;
     }
-    const double var = saa - sa * sa / m;
-    if (var > 0.0) slope = (sae - sa * se / m) / var;
+    own = Alignment::of_slope(slope);
+    known = &own;
   }
-  // cos and sin of theta = atan(slope) without the library calls.
-  const double ct = 1.0 / std::sqrt(1.0 + slope * slope), st = slope * ct;
-  const double theta = small_atan(slope);
+  const double ct = known->ct, st = known->st;
   const auto aligned_azimuth = [&](const Pulse& p) {
     return p.azimuth_rad * ct + p.elevation_rad * st;
   };
   const double a_first = aligned_azimuth(first), a_last = aligned_azimuth(last);
   const double mid = 0.5 * (a_first + a_last);  // eq. 15
-  // d_i, x_i (eq. 23-24, which do not change over the iterations) and the
-  // line's elevation in the aligned space (eq. 16's phi), in one pass.
-  std::vector<double>&r = scratch.r, &dd = scratch.dd, &xx = scratch.xx, &wt = scratch.w;
-  if (r.size() < hits.size()) {  // grow only: a resize per line zero-fills
-    r.resize(hits.size());
-    dd.resize(hits.size());
-    xx.resize(hits.size());
-    wt.resize(hits.size());
-  }
-  if (!cfg.weighted_regression) std::fill_n(wt.begin(), hits.size(), 1.0);
-  double phi = 0.0;
-  for (size_t k = 0; k < hits.size(); ++k) {
-    const Pulse& p = line.pulses[hits[k]];
-    const double ai = aligned_azimuth(p) - mid;  // eq. 15
-    phi += -p.azimuth_rad * st + p.elevation_rad * ct;
-    r[k] = p.range_m;
-    dd[k] = p.range_m * small_cos(ai);  // eq. 23
-    xx[k] = p.range_m * small_sin(ai);  // eq. 24
-  }
-  phi /= m;
   // Full extent between the edges (eq. 19 without its halving; see header).
-  const double lambda = std::abs(a_last - a_first) + (cfg.edge_correction ? delta : 0.0);
+  const double lambda = std::abs(a_last - a_first) + delta_;
   const double half = 0.5 * lambda;
   const double chord_factor =
       cfg.exact_geometry ? small_sin(half) : small_sin(half) / small_cos(half);
 
-  // Eq. 20-26: s_0 from the ends' ranges, then s_k, l_k.
-  double s = std::max(r[0], r[hits.size() - 1]);
-  double l = s * chord_factor;
-  const double sig_lambda2 = 2.0 * cfg.angle_sigma_rad * cfg.angle_sigma_rad +
-                             (cfg.edge_correction ? delta * delta / 6.0 : 0.0);
-  const double sr2 = cfg.range_sigma_m * cfg.range_sigma_m;
-  const double sa2 = cfg.angle_sigma_rad * cfg.angle_sigma_rad;
-  const int iterations = std::max(1, cfg.iterations);
-  double zsens = 0.0;  // mean l / z_i: how s moves with l (for the z variance)
-  for (int k = 0; k < iterations; ++k) {
-    l = s * chord_factor;  // eq. 22
-    // The weights are set once, from s_0: they only need to be roughly
-    // right, and later iterations then cost a square root per point, not
-    // two divisions (s_0 is within the range noise of s at every distance).
-    const bool set_weights = cfg.weighted_regression && k == 0;
-    const double sig_l2 = 0.25 * s * s * sig_lambda2;
-    double sum = 0.0, wsum = 0.0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-      const double x = xx[i];
+  // Eq. 20-26: s_0 from the ends' ranges, then s_k, l_k. The first
+  // iteration shares its pass with eq. 15-16 and 23-24 (d_i, x_i and the
+  // line's elevation phi in the aligned space), which keep d_i and x_i for
+  // any further iteration.
+  std::vector<double>&dd = scratch.dd, &xx = scratch.xx, &wt = scratch.w;
+  if (dd.size() < hits.size()) {  // grow only: a resize per line zero-fills
+    dd.resize(hits.size());
+    xx.resize(hits.size());
+    wt.resize(hits.size());
+  }
+  double s = std::max(first.range_m, last.range_m);
+  double l = s * chord_factor;  // eq. 22
+  double zsens = 0.0;           // mean l / z_i: how s moves with l (for the z variance)
+  double phi = 0.0, sum = 0.0, wsum = 0.0;
+  {
+    const double sig_l2 = 0.25 * s * s * sig_lambda2_;
+    for (size_t k = 0; k < hits.size(); ++k) {
+      const Pulse& p = line.pulses[hits[k]];
+      const double ai = aligned_azimuth(p) - mid;  // eq. 15
+      phi += -p.azimuth_rad * st + p.elevation_rad * ct;
+      const double r = p.range_m;
+      const double d = r * small_cos(ai);  // eq. 23
+      const double x = r * small_sin(ai);  // eq. 24
+      dd[k] = d;
+      xx[k] = x;
       const double z = std::sqrt(std::max(0.0, l * l - x * x));  // eq. 25
-      if (set_weights) {
+      double w = 1.0;
+      if (cfg.weighted_regression) {
+        // Set once, from s_0: the weights only need to be roughly right, and
+        // later iterations then cost a square root per point, not a division
+        // (s_0 is within the range noise of s at every distance).
         // 1 / var(d + z): range noise, x noise through dz/dx = -x/z, l noise
-        // through dz/dl = l/z (z floored: the chord's very ends); written
-        // with one division.
+        // through dz/dl = l/z (z floored: the chord's very ends):
+        // w = zf^2 / den. With q = 1 / (zf den) one division gives both w =
+        // zf^3 q and l / zf = l den q.
         const double zf = std::max(z, 0.05 * l);
         const double zf2 = zf * zf;
-        wt[i] = zf2 / (sr2 * zf2 + x * x * r[i] * r[i] * sa2 + l * l * sig_l2);
-        zsens += std::min(l / zf, 1.0 / 0.3);
+        const double den = sr2_ * zf2 + x * x * r * r * sa2_ + l * l * sig_l2;
+        const double q = 1.0 / (zf * den);
+        w = zf2 * zf * q;
+        zsens += std::min(l * den * q, 1.0 / 0.3);
       }
-      sum += wt[i] * (dd[i] + z);
-      wsum += wt[i];
+      wt[k] = w;
+      sum += w * (d + z);
+      wsum += w;
     }
+  }
+  phi *= inv_m;
+  for (int k = 0;; ++k) {
     const double s_before = s;
     s = sum / wsum;  // eq. 26
     // Stop when the slice radius would move less than the tolerance (at
     // 10 m and beyond one pass is enough: l is s times a small angle).
-    if (std::abs(s - s_before) * chord_factor < cfg.iteration_tolerance_m) break;
+    if (k + 1 >= iterations_ || std::abs(s - s_before) * chord_factor < cfg.iteration_tolerance_m) {
+      break;
+    }
+    l = s * chord_factor;  // eq. 22
+    sum = 0.0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      sum += wt[i] * (dd[i] + std::sqrt(std::max(0.0, l * l - xx[i] * xx[i])));  // eq. 25-26
+    }
   }
-  zsens /= m;
+  zsens *= inv_m;
   const double u = cfg.sphere_radius_m;
-  e.theta_rad = theta;
+  e.theta_rad = known->theta;
+  e.cos_theta = ct;
+  e.sin_theta = st;
   e.phi_rad = phi;
   e.mid_azimuth_rad = mid;
   e.lambda_rad = lambda;
@@ -264,13 +326,11 @@ bool extent_of(const ScanLineExtentConfig& cfg, const ScanLine& line, size_t ind
   e.y_abs_m = std::sqrt(std::max(0.0, u * u - l * l));  // eq. 28
 
   // Variances for the weighted regression (sensor noise propagated).
-  const double sa = cfg.angle_sigma_rad;
-  const double quant = cfg.edge_correction ? delta * delta / 12.0 : 0.0;
-  const double sig_l = 0.5 * s * std::sqrt(sig_lambda2);
-  e.variance_m2.x() = s * s * (sa * sa + quant) / 2.0;
+  const double sig_l = 0.5 * s * sig_lambda_;
+  e.variance_m2.x() = 0.5 * s * s * (sa2_ + quant_);
   e.variance_m2.y() =
-      s * s * sa * sa / m + sig_l * sig_l * l * l / (e.y_abs_m * e.y_abs_m + sig_l * u);
-  e.variance_m2.z() = cfg.range_sigma_m * cfg.range_sigma_m / m + zsens * zsens * sig_l * sig_l;
+      s * s * sa2_ * inv_m + sig_l * sig_l * l * l / (e.y_abs_m * e.y_abs_m + sig_l * u);
+  e.variance_m2.z() = sr2_ * inv_m + zsens * zsens * sig_l * sig_l;
   return true;
 }
 
@@ -283,7 +343,7 @@ void finish(const ScanLineExtentConfig& cfg, LineExtent& e) {
           : e.s_m * small_cos(e_off);                         // eq. 27 as printed
   const double a_dot = e.mid_azimuth_rad;                     // eq. 18, 30
   const double e_dot = e_off + e.phi_rad;                     // eq. 31
-  const double ct = small_cos(e.theta_rad), st = small_sin(e.theta_rad);
+  const double ct = e.cos_theta, st = e.sin_theta;
   e.azimuth_rad = a_dot * ct - e_dot * st;  // eq. 32-33 (inverse of our eq. 12-13)
   e.elevation_rad = a_dot * st + e_dot * ct;
   const double ca = small_cos(e.azimuth_rad), sa = small_sin(e.azimuth_rad);
@@ -294,12 +354,12 @@ void finish(const ScanLineExtentConfig& cfg, LineExtent& e) {
 // Eq. 28-29's sign for each line of one pass over the sphere (a run of
 // consecutive lines with returns): lines above the reference are above the
 // centre (sign -1), lines below it are below (+1).
-void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pass) {
+void choose_signs(const ScanLineExtentConfig& cfg, std::span<LineExtent> pass) {
   if (pass.empty()) return;
   // The paper's reference: the longest line.
-  const LineExtent* longest = pass.front();
-  for (const LineExtent* e : pass) {
-    if (e->lambda_rad > longest->lambda_rad) longest = e;
+  const LineExtent* longest = &pass.front();
+  for (const LineExtent& e : pass) {
+    if (e.lambda_rad > longest->lambda_rad) longest = &e;
   }
   double reference = longest->phi_rad;
   bool from_profile = false;
@@ -310,14 +370,14 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pas
     // scaling keeps them well conditioned).
     const double p0 = longest->phi_rad;
     double scale = 0.0;
-    for (const LineExtent* e : pass) scale = std::max(scale, std::abs(e->phi_rad - p0));
+    for (const LineExtent& e : pass) scale = std::max(scale, std::abs(e.phi_rad - p0));
     scale = scale > 0.0 ? scale : 1.0;
     // Power sums of q and q^k l^2 (the normal matrix is a Hankel matrix).
     double sq[5] = {0, 0, 0, 0, 0}, sb[3] = {0, 0, 0};
     const double inv_scale = 1.0 / scale;
-    for (const LineExtent* e : pass) {
-      const double q = (e->phi_rad - p0) * inv_scale, q2 = q * q;
-      const double b = e->l_m * e->l_m;
+    for (const LineExtent& e : pass) {
+      const double q = (e.phi_rad - p0) * inv_scale, q2 = q * q;
+      const double b = e.l_m * e.l_m;
       sq[0] += 1.0;
       sq[1] += q;
       sq[2] += q2;
@@ -334,10 +394,10 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pas
     c(2) /= scale * scale;
     if (c(2) < 0.0) {
       const double peak = p0 - c(1) / (2.0 * c(2));
-      double lo = pass.front()->phi_rad, hi = lo;
-      for (const LineExtent* e : pass) {
-        lo = std::min(lo, e->phi_rad);
-        hi = std::max(hi, e->phi_rad);
+      double lo = pass.front().phi_rad, hi = lo;
+      for (const LineExtent& e : pass) {
+        lo = std::min(lo, e.phi_rad);
+        hi = std::max(hi, e.phi_rad);
       }
       // Only inside the scanned span (beyond it the parabola extrapolates).
       if (peak >= lo && peak <= hi) {
@@ -347,24 +407,24 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::vector<LineExtent*>& pas
     }
   }
   int above = 0, below = 0;
-  for (const LineExtent* e : pass) {
-    if (e == longest && !from_profile) continue;
-    if (e->phi_rad > reference) {
+  for (const LineExtent& e : pass) {
+    if (&e == longest && !from_profile) continue;
+    if (e.phi_rad > reference) {
       ++above;
     } else {
       ++below;
     }
   }
-  for (LineExtent* e : pass) {
-    if (e == longest && !from_profile) {
+  for (LineExtent& e : pass) {
+    if (&e == longest && !from_profile) {
       // The reference line itself: if the pass lies mostly above it, the
       // pass stopped near the centre (less than a frame): the centre is
       // below it.
-      e->sign = above > below ? -1 : +1;
+      e.sign = above > below ? -1 : +1;
     } else {
-      e->sign = e->phi_rad > reference ? -1 : +1;
+      e.sign = e.phi_rad > reference ? -1 : +1;
     }
-    finish(cfg, *e);
+    finish(cfg, e);
   }
 }
 
@@ -378,44 +438,44 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
     if (why) *why = "no returns closer than the background threshold";
     return out;
   }
-  const double delta = azimuth_step(window);
   const WindowSlope slopes = config_.window_slope ? window_slope(window) : WindowSlope{};
+  const LineSolver solver(config_, azimuth_step(window), config_.window_slope ? &slopes : nullptr);
   Rejections rejected;
   LineScratch scratch;
-  std::vector<std::vector<LineExtent*>> passes;
   // Lines with returns in a row form a pass; a line without returns ends it.
-  std::vector<int> pass_of;
-  pass_of.reserve(window.lines.size());
-  int current = -1;
+  // The usable lines of a pass are consecutive in `out`: pass_start[k] is
+  // where pass k begins.
+  std::vector<size_t> pass_start;
   bool in_pass = false;
   // Foreground pulse indices of the current line; sized once to the longest
   // line (a resize per line zero-filled it).
   size_t longest = 0;
   for (const ScanLine& l : window.lines) longest = std::max(longest, l.pulses.size());
   std::vector<size_t> hit_buffer(longest);
+  size_t* const hit = hit_buffer.data();
   LineExtent line;
   for (size_t j = 0; j < window.lines.size(); ++j) {
     // Branch-free: every pulse's index is written, the count advances only
     // for the foreground (the sphere's edges would mispredict twice a line).
     const std::vector<Pulse>& pulses = window.lines[j].pulses;
+    const Pulse* const p = pulses.data();
+    const size_t count = pulses.size();
     size_t n = 0;
-    for (size_t i = 0; i < pulses.size(); ++i) {
-      hit_buffer[n] = i;
-      n += gate.is_foreground(pulses[i]) ? 1 : 0;
+    for (size_t i = 0; i < count; ++i) {
+      hit[n] = i;
+      n += gate.is_foreground(p[i]) ? 1 : 0;
     }
-    const std::span<const size_t> hits(hit_buffer.data(), n);
-    if (hits.empty()) {
+    if (n == 0) {
       in_pass = false;
       continue;
     }
     if (!in_pass) {
-      ++current;
+      pass_start.push_back(out.size());
       in_pass = true;
     }
-    const double known_slope = config_.window_slope ? slopes.of(window.lines[j]) : std::nan("");
-    if (extent_of(config_, window.lines[j], j, hits, delta, known_slope, rejected, scratch, line)) {
+    if (solver.solve(window.lines[j], j, std::span<const size_t>(hit, n), rejected, scratch,
+                     line)) {
       out.push_back(line);
-      pass_of.push_back(current);
     }
   }
   if (out.empty()) {
@@ -426,10 +486,11 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
     }
     return out;
   }
-  passes.resize(static_cast<size_t>(current + 1));
-  for (size_t k = 0; k < out.size(); ++k)
-    passes[static_cast<size_t>(pass_of[k])].push_back(&out[k]);
-  for (auto& pass : passes) choose_signs(config_, pass);
+  pass_start.push_back(out.size());
+  for (size_t k = 0; k + 1 < pass_start.size(); ++k) {
+    const std::span<LineExtent> pass(out.data() + pass_start[k], pass_start[k + 1] - pass_start[k]);
+    choose_signs(config_, pass);
+  }
   return out;
 }
 

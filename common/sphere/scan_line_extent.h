@@ -70,14 +70,15 @@ struct LineExtent {
   size_t line_index = 0;  // in the window
   double t_s = 0.0;       // T_j, eq. 34
   int points = 0;
-  double theta_rad = 0.0;        // alignment rotation (slope of elevation on azimuth)
-  double phi_rad = 0.0;          // mean elevation after the rotation
-  double mid_azimuth_rad = 0.0;  // (a_1 + a_m) / 2 after the rotation
-  double lambda_rad = 0.0;       // full azimuth extent between the edges
-  double s_m = 0.0;              // range to the slice circle's centre
-  double l_m = 0.0;              // slice circle's radius
-  double y_abs_m = 0.0;          // |y|, eq. 28
-  int sign = 0;                  // +1: centre above the line (eq. 28-29), -1 below
+  double theta_rad = 0.0;                   // alignment rotation (slope of elevation on azimuth)
+  double cos_theta = 1.0, sin_theta = 0.0;  // of theta_rad, for eq. 32-33
+  double phi_rad = 0.0;                     // mean elevation after the rotation
+  double mid_azimuth_rad = 0.0;             // (a_1 + a_m) / 2 after the rotation
+  double lambda_rad = 0.0;                  // full azimuth extent between the edges
+  double s_m = 0.0;                         // range to the slice circle's centre
+  double l_m = 0.0;                         // slice circle's radius
+  double y_abs_m = 0.0;                     // |y|, eq. 28
+  int sign = 0;                             // +1: centre above the line (eq. 28-29), -1 below
   double azimuth_rad = 0.0, elevation_rad = 0.0, range_m = 0.0;  // A_j, E_j, R_j
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();          // eq. 35-37
   Eigen::Vector3d variance_m2 = Eigen::Vector3d::Ones();         // for weighted regression
