@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "common/rambo/reaching_planner.h"
 #include "common/rambo/rigid_body_pose_predictor.h"
@@ -26,12 +27,60 @@ bool FittedMotion::finite() const {
          principal_moments.minCoeff() > 0.0;
 }
 
+namespace {
+
+// The fitted motion sampled every kStepS from t0_s (RK4 once along the way),
+// so that ordering, which asks for the target's pose at many launch and
+// arrival times (109 600 reaching trajectories for 8 diodes, exhaustive),
+// does not integrate Euler's equations from t_ref each time. Between samples:
+// the position exactly (constant velocity), the orientation by slerp (at the
+// slow tumbles here, well under 0.001 deg from the integrated one). Beyond
+// the table: the motion itself.
+class SampledMotion {
+ public:
+  static constexpr double kStepS = 0.01;
+  SampledMotion(const FittedMotion& m, double t0_s, double span_s) : m_(m), t0_s_(t0_s) {
+    Eigen::Quaterniond q = m.orientation;
+    Eigen::Vector3d w = m.body_rates_rad_s;
+    RigidBodyPosePredictor::propagate(m.principal_moments, 0.005, t0_s - m.t_ref_s, &q, &w);
+    const auto n = static_cast<std::size_t>(std::ceil(span_s / kStepS)) + 1;
+    q_.reserve(n);
+    q_.push_back(q.normalized());
+    for (std::size_t k = 1; k < n; ++k) {
+      RigidBodyPosePredictor::propagate(m.principal_moments, 0.005, kStepS, &q, &w);
+      q_.push_back(q.normalized());
+    }
+  }
+  Eigen::Isometry3d pose(double t_s) const {
+    const double u = (t_s - t0_s_) / kStepS;
+    if (!(u >= 0.0) || u >= static_cast<double>(q_.size() - 1)) return m_.pose(t_s);
+    const auto k = static_cast<std::size_t>(u);
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = q_[k].slerp(u - static_cast<double>(k), q_[k + 1]).toRotationMatrix();
+    p.translation() = m_.position_mm + m_.velocity_mm_s * (t_s - m_.t_ref_s);
+    return p;
+  }
+
+ private:
+  FittedMotion m_;
+  double t0_s_;
+  std::vector<Eigen::Quaterniond> q_;
+};
+
+}  // namespace
+
 TaggingPlanner::TaggingPlanner(const RamboCell& cell, TaggingOptions options)
     : cell_(cell), options_(options), arm_(cell.tool_length_mm) {}
 
 std::optional<arm::Joints> TaggingPlanner::goal_joints(int diode, const FittedMotion& m, double t_s,
                                                        const arm::Joints& near) const {
   return arm_.nearest_inverse(m.pose(t_s) * cell_.goal_in_target(diode), near);
+}
+
+std::optional<arm::Joints> TaggingPlanner::goal_joints_at(int diode,
+                                                          const Eigen::Isometry3d& target_in_base,
+                                                          const arm::Joints& near) const {
+  return arm_.nearest_inverse(target_in_base * cell_.goal_in_target(diode), near);
 }
 
 TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
@@ -55,18 +104,22 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
   const bool keep = task_ >= 0 && std::find(open.begin(), open.end(), task_) != open.end() &&
                     goal_joints(task_, motion, now_s + options_.lead_s, current_q).has_value();
   if (!keep) {
+    // Every task's reach and hold, one after the other, within this span.
+    const double span_s =
+        static_cast<double>(open.size()) * (hold_s + 5.0 + options_.settle_s) + 2.0;
+    const SampledMotion sampled(motion, now_s, span_s);
     // Only diodes whose goal the arm can hold now are ordered; the others
     // come back when the tumble turns them towards the arm.
     std::vector<int> reachable;
     for (int i : open)
-      if (goal_joints(i, motion, now_s + 1.0, current_q) &&
-          goal_joints(i, motion, now_s + 1.0 + hold_s, current_q))
+      if (goal_joints_at(i, sampled.pose(now_s + 1.0), current_q) &&
+          goal_joints_at(i, sampled.pose(now_s + 1.0 + hold_s), current_q))
         reachable.push_back(i);
     open = reachable;
     // Section 10 over the open diodes; cost: the straight-line heuristic.
     const Eigen::Vector3d tool_now = arm_.forward(current_q).translation();
     auto goal_pos = [&](int k, double t) {
-      return (motion.pose(t) * cell_.goal_in_target(open[static_cast<std::size_t>(k)]))
+      return (sampled.pose(t) * cell_.goal_in_target(open[static_cast<std::size_t>(k)]))
           .translation();
     };
     ReachingDurationFn cost = [&](int from, int to, double launch_s) {
@@ -76,8 +129,8 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
                                                              options_.safe_speed_mm_s) +
                        options_.settle_s;
       const int d = open[static_cast<std::size_t>(to)];
-      if (!goal_joints(d, motion, launch_s + t, current_q) ||
-          !goal_joints(d, motion, launch_s + t + hold_s, current_q))
+      if (!goal_joints_at(d, sampled.pose(launch_s + t), current_q) ||
+          !goal_joints_at(d, sampled.pose(launch_s + t + hold_s), current_q))
         return std::numeric_limits<double>::infinity();
       return t;
     };

@@ -71,6 +71,8 @@ class TaggingPlanner {
  private:
   std::optional<arm::Joints> goal_joints(int diode, const FittedMotion& m, double t_s,
                                          const arm::Joints& near) const;
+  std::optional<arm::Joints> goal_joints_at(int diode, const Eigen::Isometry3d& target_in_base,
+                                            const arm::Joints& near) const;
   RamboCell cell_;
   TaggingOptions options_;
   arm::Puma560 arm_;

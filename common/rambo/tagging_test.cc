@@ -1,9 +1,14 @@
 // RamboCell, DiodeIndicator and TaggingPlanner on hand-checked cases.
 #include <gtest/gtest.h>
 
+#include "common/config/repo_paths.h"
 #include "common/rambo/diode_indicator.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/tagging_planner.h"
+#include "common/rambo/target_model_file.h"
+
+#include <chrono>
+#include <cstdio>
 
 namespace ephor::rambo {
 namespace {
@@ -91,6 +96,36 @@ TEST(TaggingPlanner, OrdersTheOpenDiodesAndAimsAtTheFirst) {
   FittedMotion bad = f;
   bad.position_mm.x() = std::nan("");
   EXPECT_FALSE(planner.step(100.4, bad, {false, false, false, false}, *s.goal_q).goal_q);
+}
+
+// The model file's eight diodes, all within reach of a slow tumble: every
+// method orders all of them, DP's order takes exhaustive's time, and the
+// counts are the formulas' (common/rambo/README.md).
+TEST(TaggingPlanner, OrdersEightDiodesOfTheModelFile) {
+  const RamboCell cell = RamboCell::make(
+      load_target_model_file((repo_dir() / "deploy/rambo/target.pbtxt").string()), 8);
+  TumblingMotion m = cell.draw_motion(3, 2.0, 1.0);
+  FittedMotion f;
+  f.t_ref_s = 100.0;
+  f.position_mm = m.pose0.translation();
+  f.orientation = Eigen::Quaterniond::Identity();
+  f.body_rates_rad_s = Eigen::Vector3d(0.0, 0.0, 0.002);
+  f.principal_moments = cell.principal_moments;
+  TaggingPlanner planner(cell);
+  const auto t0 = std::chrono::steady_clock::now();
+  const TaggingStep s = planner.step(100.0, f, std::vector<bool>(8, false), cell.start_joints);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("8 diodes ordered in %.0f ms: greedy %ld, exhaustive %ld, DP %ld, %.2f s\n", ms,
+              static_cast<long>(s.greedy_trajectories),
+              static_cast<long>(s.exhaustive_trajectories), static_cast<long>(s.dp_trajectories),
+              s.order_total_s);
+  ASSERT_TRUE(s.reordered);
+  EXPECT_EQ(s.order.size(), 8u);
+  EXPECT_EQ(s.greedy_trajectories, 36);
+  EXPECT_EQ(s.exhaustive_trajectories, 109600);
+  EXPECT_EQ(s.dp_trajectories, 3592);
+  EXPECT_TRUE(s.goal_q.has_value());
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <deque>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -28,7 +29,6 @@
 #include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
-#include "common/lcm/mailbox.h"
 #include "common/log/log.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
@@ -79,10 +79,20 @@ int main(int argc, char** argv) {
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
     std::deque<std::pair<int64_t, arm::Joints>> joints;  // ARM_STATE history, utime -> q
-    Mailbox<rambo_features_t> features;
+    // Frames ready for pose, oldest first, and the newest one still waiting
+    // for an ARM_STATE at or after its capture time (guarded by mutex): the
+    // camera's pose is interpolated between the states around the capture,
+    // so a frame is taken up only once the arm has reported past it; what
+    // the estimate sees then does not depend on how fast messages arrived,
+    // and a recorded run replays to the same poses (rambo_replay_test).
+    std::deque<rambo_features_t> ready;
+    std::optional<rambo_features_t> waiting;
+    int64_t dropped = 0;  // frames not estimated: more than kMaxReady behind
+    constexpr std::size_t kMaxReady = 5;
     std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
     std::optional<FittedMotion> motion;                         // the predictor's newest fit
     std::atomic<int64_t> found{0}, not_found{0}, bad{0};
+    std::map<std::string, int64_t> reasons;  // of frames without a pose (guarded by mutex)
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
           if (!m.fitted) return;
@@ -110,13 +120,34 @@ int main(int argc, char** argv) {
         ++bad;
         return;
       }
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!joints.empty() && m.utime <= joints.back().first) return;
-      joints.emplace_back(m.utime, q);
-      while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!joints.empty() && m.utime <= joints.back().first) return;
+        joints.emplace_back(m.utime, q);
+        while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
+        if (!waiting || m.utime < waiting->utime) return;
+        ready.push_back(std::move(*waiting));
+        waiting.reset();
+      }
+      runtime.trigger("pose");
     });
     bus.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
-      features.put(m);
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        // A newer frame: the one still waiting goes as it is (its camera
+        // pose from the last state, or none).
+        if (waiting) ready.push_back(std::move(*waiting));
+        waiting.reset();
+        if (!joints.empty() && joints.back().first >= m.utime)
+          ready.push_back(m);
+        else
+          waiting = m;
+        while (ready.size() > kMaxReady) {
+          ready.pop_front();
+          ++dropped;
+        }
+        if (ready.empty()) return;
+      }
       runtime.trigger("pose");
     });
 
@@ -136,8 +167,14 @@ int main(int argc, char** argv) {
     };
 
     runtime.add_triggered("pose", std::chrono::milliseconds(150), [&] {
-      const auto f = features.take();
-      if (!f) return;
+      std::optional<rambo_features_t> f;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (ready.empty()) return;
+        f = std::move(ready.front());
+        ready.pop_front();
+        if (!ready.empty()) runtime.trigger("pose");  // one frame per job
+      }
       rambo_pose_t out{};
       out.utime = f->utime;
       out.frame_index = f->frame_index;
@@ -200,6 +237,10 @@ int main(int argc, char** argv) {
         }
       }
       (out.found ? found : not_found)++;
+      if (!out.found) {
+        std::lock_guard<std::mutex> lock(mutex);
+        ++reasons[out.reason];
+      }
       if (!out.found && not_found % 20 == 1)
         spdlog::warn("frame {}: no pose: {} ({} so far)", f->frame_index, out.reason,
                      not_found.load());
@@ -211,8 +252,11 @@ int main(int argc, char** argv) {
                  cell.model.triangles().size());
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} poses, {} without, {} bad messages", found.load(), not_found.load(),
-                 bad.load());
+    std::lock_guard<std::mutex> lock(mutex);
+    std::string why;
+    for (const auto& [reason, n] : reasons) why += fmt::format("; {}: {}", reason, n);
+    spdlog::info("summary: {} poses, {} without, {} bad messages, {} frames dropped behind{}",
+                 found.load(), not_found.load(), bad.load(), dropped, why);
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-pose: " << e.what() << "\n";

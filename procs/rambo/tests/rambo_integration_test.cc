@@ -12,6 +12,7 @@
 #include <csignal>
 #include <fstream>
 #include <mutex>
+#include <sstream>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -121,6 +122,95 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
   ASSERT_FALSE(s.at("pose_error_mm").is_null());
   EXPECT_LT(s.at("pose_error_mm").at("p50").get<double>(), 5.0);
   EXPECT_LT(s.at("pose_error_deg").at("p50").get<double>(), 1.0);
+  // The summary fields, present and sane.
+  ASSERT_TRUE(s.contains("time_to_all_s"));
+  EXPECT_TRUE(s.at("time_to_all_s").is_null() || s.at("time_to_all_s").get<double>() > 0.0);
+  ASSERT_EQ(s.at("tasks").size(), s.at("tagged").get<std::size_t>());
+  double previous_s = 0.0;
+  for (std::size_t k = 0; k < s.at("tasks").size(); ++k) {
+    const auto& t = s.at("tasks")[k];
+    EXPECT_EQ(t.at("order").get<std::size_t>(), k + 1);
+    EXPECT_GE(t.at("diode").get<int>(), 0);
+    EXPECT_LT(t.at("diode").get<int>(), 4);
+    EXPECT_FALSE(t.at("name").get<std::string>().empty());
+    EXPECT_NEAR(t.at("time_s").get<double>(), t.at("tagged_s").get<double>() - previous_s, 1e-9);
+    EXPECT_GE(t.at("time_s").get<double>(), 1.0) << "a diode is lit 1 s before it is tagged";
+    previous_s = t.at("tagged_s").get<double>();
+  }
+  for (const char* key : {"pose_error_mm", "pose_error_deg", "pose_ms"}) {
+    const auto& v = s.at(key);
+    ASSERT_FALSE(v.is_null()) << key;
+    EXPECT_GE(v.at("p50").get<double>(), 0.0) << key;
+    EXPECT_GE(v.at("p99").get<double>(), v.at("p50").get<double>()) << key;
+  }
+  EXPECT_LT(s.at("pose_ms").at("p50").get<double>(), 150.0) << "pose within its deadline";
+  for (const char* h : {"0.5s", "1.0s", "2.0s"}) {
+    const auto& v = s.at("prediction_error_mm").at(h);
+    ASSERT_FALSE(v.is_null()) << h;
+    EXPECT_LT(v.at("p50").get<double>(), 50.0) << h;
+  }
+  const auto& counts = s.at("reaching_trajectories_computed");
+  ASSERT_FALSE(counts.is_null());
+  for (const char* m : {"greedy", "exhaustive", "dynamic_programming"})
+    EXPECT_GE(counts.at(m).get<int>(), 1) << m;
+  EXPECT_GE(counts.at("exhaustive").get<int>(), counts.at("greedy").get<int>());
+  ASSERT_TRUE(s.at("deadline_misses").is_number_integer()) << "no scheduler status heard";
+  EXPECT_GE(s.at("deadline_misses").get<int64_t>(), 0);
+  ASSERT_TRUE(s.at("rt").is_boolean());
+  EXPECT_EQ(s.at("sched_hosts").get<int>(), 4) << "world, vision, planning, robot";
+}
+
+// A bad model file or diode count: every process that reads the model says
+// what is wrong in one line and exits with status 2, before touching the bus.
+TEST(Rambo, BadModelFilesAreRefusedInOneLineWithStatusTwo) {
+  std::ifstream in(source_path("deploy/rambo/target.pbtxt"));
+  std::stringstream text;
+  text << in.rdbuf();
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = text.str();
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return t.replace(at, from.size(), to);
+  };
+  const std::string missing = write_temp_file(
+      "missing_vertex.pbtxt", with("face { vertex: [7, 8, 9] }", "face { vertex: [7, 8, 12] }"));
+  const std::string off = write_temp_file(
+      "goal_off.pbtxt", with("lens_mm { x: -30 y: -90 z: 0 }", "lens_mm { x: -30 y: -130 z: 0 }"));
+  const std::string nan = write_temp_file(
+      "nan.pbtxt", with("vertex { x: 120 y: 90 z: 70 }", "vertex { x: nan y: 90 z: 70 }"));
+  // The first four diodes only.
+  std::string first_four = text.str();
+  first_four = first_four.substr(0, first_four.find("# On the cut face's centroid"));
+  const std::string four = write_temp_file("four_diodes.pbtxt", first_four);
+  struct Case {
+    std::string exe, model, expected;
+    std::vector<std::string> extra;
+  };
+  const std::vector<Case> cases{
+      {"ephor-rambo-sim", missing, "face[6]: face 6 index 2 names vertex 12, which is missing", {}},
+      {"ephor-rambo-pose", missing, "face 6 index 2 names vertex 12", {}},
+      {"ephor-rambo-predictor",
+       off,
+       "diode[2].lens_mm: goal point diode[2] ('right') is off the target: its lens is 40 mm "
+       "outside the surface",
+       {}},
+      {"ephor-rambo-planner", nan, "vertex[4]: is not finite (nan, 90, 70)", {}},
+      {"ephor-rambo-planner",
+       four,
+       "--diodes 6: " + four + " carries 4 diodes (1-4)",
+       {"--diodes", "6"}},
+  };
+  for (const Case& k : cases) {
+    Processes p;
+    std::vector<std::string> args{"--no-mlock", "--model", k.model, "--duration", "5"};
+    args.insert(args.end(), k.extra.begin(), k.extra.end());
+    p.start("proc", bin(k.exe), args, {{"LCM_DEFAULT_URL", kUrl}});
+    ASSERT_TRUE(wait_until([&] { return !p.exits().empty(); }, seconds(10))) << k.exe;
+    const auto e = p.exits().front();
+    EXPECT_EQ(e.code, 2) << k.exe << " " << e.describe();
+    EXPECT_TRUE(p.has_line("proc", k.expected)) << k.exe << ": expected '" << k.expected << "'";
+    EXPECT_EQ(p.lines("proc").size(), 1u) << k.exe << ": one line";
+  }
 }
 
 }  // namespace
