@@ -36,6 +36,10 @@ void validate_and_fill(config::Manifest& m, const TextProto& src) {
   if (sched->fifo_priority_max() < 1 || sched->fifo_priority_max() > 99)
     src.fail("scheduler.fifo_priority_max", "must be 1..99");
   if (!sched->has_migrate()) sched->set_migrate(true);
+  if (!sched->has_cpu_latency_us()) sched->set_cpu_latency_us(0);
+  if (sched->cpu_latency_us() < -1 || sched->cpu_latency_us() > 1000000)
+    src.fail("scheduler.cpu_latency_us", "must be -1 (no request) or 0..1000000 us (got " +
+                                             std::to_string(sched->cpu_latency_us()) + ")");
   for (int i = 0; i < sched->cpus_size(); ++i)
     if (sched->cpus(i) < 0) src.fail("scheduler.cpus[" + std::to_string(i) + "]", "negative CPU");
 

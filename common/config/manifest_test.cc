@@ -48,6 +48,16 @@ TEST(Manifest, GoodFileLoadsWithDefaults) {
   EXPECT_EQ(task_cpu(m.process(1).task(0)), -1);  // "auto"
   EXPECT_EQ(m.scheduler().estimate_window(), 3u);
   EXPECT_TRUE(m.scheduler().migrate());
+  EXPECT_EQ(m.scheduler().cpu_latency_us(), 0);  // idle CPUs poll while the scheduler runs
+}
+
+TEST(Manifest, CpuLatencyRequestIsMinusOneOrAnAmountOfMicroseconds) {
+  EXPECT_EQ(parse_manifest("name: \"x\" scheduler { cpu_latency_us: -1 }", "x")
+                .scheduler()
+                .cpu_latency_us(),
+            -1);
+  const std::string err = error_of("name: \"x\"\nscheduler { cpu_latency_us: -5 }\n");
+  EXPECT_NE(err.find("scheduler.cpu_latency_us"), std::string::npos) << err;
 }
 
 TEST(Manifest, NoHostsMeansOneLocalHost) {

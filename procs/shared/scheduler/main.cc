@@ -8,6 +8,7 @@
 // EPHOR_SCHED_STATUS at the status period (1 Hz by default).
 
 #include <iostream>
+#include <memory>
 #include <mutex>
 
 #include <spdlog/spdlog.h>
@@ -18,6 +19,7 @@
 #include "common/lcm/bus.h"
 #include "common/log/log.h"
 #include "common/runtime/channels.h"
+#include "common/runtime/cpu_latency_request.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "ephor/sched_assignments_t.hpp"
@@ -144,6 +146,22 @@ int main(int argc, char** argv) {
     cfg.estimate_window = sc.estimate_window();
     cfg.fifo_priority_max = sc.fifo_priority_max();
     cfg.migrate = sc.migrate();
+
+    // Held until the scheduler exits (the kernel drops it with the file).
+    std::unique_ptr<CpuLatencyRequest> cpu_latency;
+    const int cpu_latency_us = sc.cpu_latency_us();  // the manifest loader's default: 0
+    if (cpu_latency_us >= 0) {
+      cpu_latency = std::make_unique<CpuLatencyRequest>(cpu_latency_us);
+      if (cpu_latency->held()) {
+        spdlog::info("CPU wake-up latency held at {} us while this scheduler runs (idle CPUs poll)",
+                     cpu_latency_us);
+      } else {
+        spdlog::warn(
+            "CPU wake-up latency request of {} us refused ({}): idle CPUs may sleep and tasks "
+            "wake later; run as root or set scheduler {{ cpu_latency_us: -1 }} to silence this",
+            cpu_latency_us, cpu_latency->error());
+      }
+    }
 
     auto table = build_task_table(manifest, args.host);
     if (table.empty()) spdlog::warn("no tasks for host '{}' in {}", args.host, manifest_path);
