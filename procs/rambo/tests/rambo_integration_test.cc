@@ -13,15 +13,23 @@
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
+#include "common/time/clock.h"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/camera_frame_t.hpp"
 #include "ephor/rambo_features_t.hpp"
 #include "ephor/rambo_indicator_t.hpp"
+#include "ephor/rambo_plan_t.hpp"
 #include "ephor/rambo_pose_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
 #include "tests/integration/harness.h"
@@ -211,6 +219,110 @@ TEST(Rambo, BadModelFilesAreRefusedInOneLineWithStatusTwo) {
     EXPECT_TRUE(p.has_line("proc", k.expected)) << k.exe << ": expected '" << k.expected << "'";
     EXPECT_EQ(p.lines("proc").size(), 1u) << k.exe << ": one line";
   }
+}
+
+// Bad input through the vision chain (the issue: "a frame with no corners:
+// ... 'no pose' with its reason, never a crash, and the arm never moves for
+// it"): features, pose (on the features process's triples, not the oracle),
+// predictor and planner run against frames of a blank grey image, with the
+// arm standing still (ARM_STATE from this test). Every frame must give a
+// RAMBO_POSE without a pose whose reason says why, the predictor no fit, and
+// the planner no ARM_GOAL; a frame whose size does not match its bytes is
+// refused by name.
+TEST(Rambo, FramesWithNoCornersGiveNoPoseAndTheArmNeverMoves) {
+  std::mutex mutex;
+  int poses = 0, found = 0, with_reason = 0, fitted = 0, goals = 0, plans = 0;
+  std::string reason, status;
+  Bus bus(kUrl, "rambo-test");
+  bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&](const rambo_pose_t& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++poses;
+    found += m.found ? 1 : 0;
+    if (!m.found && m.reason.find("no image triples in the frame") != std::string::npos)
+      ++with_reason;
+    reason = m.reason;
+  });
+  bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    fitted += m.fitted ? 1 : 0;
+  });
+  bus.subscribe<arm_goal_t>(ephor::channels::kArmGoal, [&](const arm_goal_t&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++goals;
+  });
+  bus.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&](const rambo_plan_t& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    ++plans;
+    status = m.status;
+  });
+  bus.start();
+
+  const std::string model = source_path("deploy/rambo/target.pbtxt");
+  const std::vector<std::pair<std::string, std::string>> env{{"LCM_DEFAULT_URL", kUrl}};
+  Processes p;
+  p.start("features", bin("ephor-rambo-features"), {"--no-mlock"}, env);
+  p.start("pose", bin("ephor-rambo-pose"),
+          {"--no-mlock", "--model", model, "--features-channel", rambo::channels::kFeatures}, env);
+  p.start("predictor", bin("ephor-rambo-predictor"), {"--no-mlock", "--model", model}, env);
+  p.start("planner", bin("ephor-rambo-planner"), {"--no-mlock", "--model", model}, env);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return p.has_line("features", "ready:") && p.has_line("pose", "ready:") &&
+               p.has_line("predictor", "ready:") && p.has_line("planner", "ready:");
+      },
+      seconds(10)));
+
+  // The arm at rest (100 Hz) and a blank frame every 200 ms, each captured
+  // 5 ms before an arm state (the pose process waits for one past it).
+  const rambo::RamboCell cell = rambo::RamboCell::make(4);
+  arm_state_t state{};
+  for (int j = 0; j < 6; ++j) state.q[j] = cell.start_joints[j];
+  camera_frame_t frame{};
+  frame.width = 640;
+  frame.height = 480;
+  frame.size = frame.width * frame.height;
+  frame.data.assign(static_cast<std::size_t>(frame.size), 128);
+  const auto heard_ten = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    return poses >= 10;
+  };
+  for (int tick = 0; tick < 600 && !heard_ten(); ++tick) {
+    state.utime = wall_us();
+    bus.publish(ephor::channels::kArmState, state);
+    if (tick % 20 == 10) {  // states from 100 ms before the first frame
+      frame.utime = state.utime - 5000;
+      ++frame.frame_index;
+      bus.publish(ephor::channels::kCamera, frame);
+      if (tick == 50) {  // one malformed frame: 100 bytes short
+        camera_frame_t bad = frame;
+        bad.frame_index = 999999;
+        bad.data.resize(bad.data.size() - 100);
+        bad.size = static_cast<int32_t>(bad.data.size());
+        bus.publish(ephor::channels::kCamera, bad);
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // the arm's state period
+  }
+  ASSERT_TRUE(heard_ten()) << "fewer than 10 poses in 6 s of frames";
+  // One more planning period after the last pose.
+  ASSERT_TRUE(wait_until(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return plans >= 10;
+      },
+      seconds(5)));
+  bus.stop();
+  std::lock_guard<std::mutex> lock(mutex);
+  std::fprintf(stderr, "%d poses (%d found), last reason '%s'; %d fits; %d goals; plan '%s'\n",
+               poses, found, reason.c_str(), fitted, goals, status.c_str());
+  EXPECT_EQ(found, 0);
+  EXPECT_EQ(with_reason, poses) << "last reason: " << reason;
+  EXPECT_EQ(fitted, 0);
+  EXPECT_EQ(goals, 0) << "the arm was sent a goal";
+  EXPECT_EQ(status, "waiting for a prediction and the arm");
+  EXPECT_TRUE(p.has_line("features", "CAMERA frame 999999 from rambo-test refused"));
+  EXPECT_TRUE(p.has_line("features", "fewer than 3 corners"));
+  for (const auto& e : p.exits()) ADD_FAILURE() << e.name << " " << e.describe();
 }
 
 }  // namespace
