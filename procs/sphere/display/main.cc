@@ -23,7 +23,7 @@
 #include "common/lcm/bus.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
-#include "common/sphere_comm/sphere_channels.h"
+#include "common/sphere/sphere_channels.h"
 #include "common/time/clock.h"
 #include "procs/sphere/display/sphere_display_state.h"
 #include "procs/sphere/display/sphere_lcm_json.h"

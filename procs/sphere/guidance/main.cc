@@ -26,7 +26,7 @@
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
 #include "common/sphere/guidance/sphere_guidance.h"
-#include "common/sphere_comm/sphere_channels.h"
+#include "common/sphere/sphere_channels.h"
 #include "common/time/clock.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "ephor/sphere_guidance_t.hpp"

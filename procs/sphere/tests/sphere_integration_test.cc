@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "common/lcm/bus.h"
-#include "common/sphere_comm/sphere_channels.h"
+#include "common/sphere/sphere_channels.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "ephor/sphere_guidance_t.hpp"
 #include "ephor/sphere_scan_line_t.hpp"

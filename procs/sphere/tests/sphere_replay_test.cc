@@ -20,7 +20,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "common/lcm/bus.h"
-#include "common/sphere_comm/sphere_channels.h"
+#include "common/sphere/sphere_channels.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "tests/integration/harness.h"
 
