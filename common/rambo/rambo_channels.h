@@ -10,6 +10,8 @@ inline constexpr const char* kFeatures = "RAMBO_FEATURES";
 inline constexpr const char* kFeaturesOracle = "RAMBO_FEATURES_ORACLE";
 // rambo_pose_t, pose -> predictor: one per frame with triples.
 inline constexpr const char* kPose = "RAMBO_POSE";
+// The solvePnPRansac peer on some frames (rambo_pose_t; ephor-rambo-pose --peer-every).
+inline constexpr const char* kPosePeer = "RAMBO_POSE_PEER";
 // rambo_prediction_t, predictor -> planner: after every pose.
 inline constexpr const char* kPrediction = "RAMBO_PREDICTION";
 // rambo_plan_t, planner -> display, tests.

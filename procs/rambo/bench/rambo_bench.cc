@@ -34,6 +34,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "common/rambo/polynomial_pose_predictor.h"
+#include "common/rambo/ransac_pose_peer.h"
 #include "common/rambo/reaching_planner.h"
 #include "common/rambo/rigid_body_pose_predictor.h"
 #include "common/rambo/task_orderer.h"
@@ -306,37 +307,13 @@ nlohmann::json bench_prediction(int seeds, unsigned seed0) {
           {"targets", seeds}};
 }
 
-// OpenCV's RANSAC over all correspondence hypotheses: every distinct image
-// point paired with every model vertex.
+// OpenCV's RANSAC over all correspondence hypotheses (RansacPosePeer: the
+// same peer ephor-rambo-pose runs in a live run with --peer-every).
 bool ransac_peer(const TargetModel& m, const CameraIntrinsics& cam,
                  const std::vector<ImageTriple>& triples, Eigen::Isometry3d* pose) {
-  std::vector<Eigen::Vector2d> pts;
-  auto add = [&pts](const Eigen::Vector2d& p) {
-    for (const auto& q : pts)
-      if ((q - p).squaredNorm() < 1e-12) return;
-    pts.push_back(p);
-  };
-  for (const auto& t : triples) add(t.reference_px), add(t.a_px), add(t.b_px);
-  std::vector<cv::Point3d> o;
-  std::vector<cv::Point2d> i;
-  for (const auto& p : pts)
-    for (const auto& v : m.vertices())
-      o.emplace_back(v.x(), v.y(), v.z()), i.emplace_back(p.x(), p.y());
-  const cv::Mat k =
-      (cv::Mat_<double>(3, 3) << cam.fx_px, 0, cam.cx_px, 0, cam.fy_px, cam.cy_px, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> inliers;
-  if (!cv::solvePnPRansac(o, i, k, cv::noArray(), rvec, tvec, false, 20000, 3.0, 0.999, inliers,
-                          cv::SOLVEPNP_AP3P))
-    return false;
-  cv::Mat rm;
-  cv::Rodrigues(rvec, rm);
-  *pose = Eigen::Isometry3d::Identity();
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) pose->linear()(a, b) = rm.at<double>(a, b);
-    pose->translation()[a] = tvec.at<double>(a);
-  }
-  return true;
+  const auto r = RansacPosePeer(m, cam).estimate(triples);
+  if (r) *pose = r->target_in_camera;
+  return r.has_value();
 }
 
 nlohmann::json bench_pose(int poses, unsigned seed0) {

@@ -16,12 +16,14 @@
 
 #include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -32,6 +34,7 @@
 #include "common/log/log.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
+#include "common/rambo/ransac_pose_peer.h"
 #include "common/rambo/tagging_planner.h"
 #include "common/rambo/target_model_file.h"
 #include "common/rambo/triangle_pose_estimator.h"
@@ -57,6 +60,11 @@ int main(int argc, char** argv) {
   app.add_option("--features-channel", features_channel,
                  "image triples from: RAMBO_FEATURES (the features process, from the frames) or "
                  "RAMBO_FEATURES_ORACLE (the simulator's projected vertices)");
+  int peer_every = 0;
+  app.add_option("--peer-every", peer_every,
+                 "also run the solvePnPRansac peer on every Nth frame, on its own thread at "
+                 "normal priority (RAMBO_POSE_PEER; 0 = never)")
+      ->check(CLI::Range(0, 100000));
   app.add_option("--prior-max-age-s", prior_max_age_s,
                  "prune with the last pose when it is at most this old, s (0 = never prune)")
       ->check(CLI::Range(0.0, 60.0));
@@ -92,7 +100,18 @@ int main(int argc, char** argv) {
     std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
     std::optional<FittedMotion> motion;                         // the predictor's newest fit
     std::atomic<int64_t> found{0}, not_found{0}, bad{0};
-    std::map<std::string, int64_t> reasons;  // of frames without a pose (guarded by mutex)
+    std::map<std::string, int64_t> reasons;
+    // The frame handed to the peer's thread (one at a time).
+    struct PeerJob {
+      int64_t utime = 0, frame_index = 0;
+      std::string source;
+      std::vector<ImageTriple> triples;
+      Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();  // camera in base at capture
+    };
+    std::mutex peer_mutex;
+    std::condition_variable peer_wake;
+    std::optional<PeerJob> peer_job;
+    bool peer_stop = false;  // of frames without a pose (guarded by mutex)
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
           if (!m.fitted) return;
@@ -214,6 +233,13 @@ int main(int argc, char** argv) {
         out.reason = "no image triples in the frame";
       } else {
         const Eigen::Isometry3d camera = arm.forward(*q) * cell.camera_in_tool;
+        if (peer_every > 0 && f->frame_index % peer_every == 0) {
+          std::lock_guard<std::mutex> lock(peer_mutex);
+          if (!peer_job) {  // else the peer is still on an older frame: skipped
+            peer_job = PeerJob{f->utime, f->frame_index, f->source, triples, camera};
+            peer_wake.notify_one();
+          }
+        }
         const Eigen::Isometry3d prior =
             prior_in_base ? camera.inverse() * *prior_in_base : Eigen::Isometry3d::Identity();
         const int64_t cpu0 = thread_cpu_ns();
@@ -247,11 +273,59 @@ int main(int argc, char** argv) {
       bus.publish(rambo::channels::kPose, out);
     });
 
+    // The peer (common/rambo/ransac_pose_peer.h) on its own thread, not a
+    // task of the run: at ~0.6 s a frame it would miss every deadline and
+    // hold a real-time CPU; its poses are compared with ours by the
+    // simulator's summary.
+    std::thread peer_thread;
+    if (peer_every > 0) {
+      peer_thread = std::thread([&] {
+        const RansacPosePeer peer(cell.model, cell.camera);
+        for (;;) {
+          PeerJob job;
+          {
+            std::unique_lock<std::mutex> lock(peer_mutex);
+            peer_wake.wait(lock, [&] { return peer_job.has_value() || peer_stop; });
+            if (peer_stop) return;
+            job = *peer_job;
+          }
+          rambo_pose_t out{};
+          out.utime = job.utime;
+          out.frame_index = job.frame_index;
+          out.features_source = job.source;
+          const int64_t cpu0 = thread_cpu_ns();
+          const auto r = peer.estimate(job.triples);
+          out.pose_ms = static_cast<double>(thread_cpu_ns() - cpu0) * 1e-6;
+          out.found = r.has_value();
+          out.reason = r ? "" : "solvePnPRansac found no consensus";
+          if (r) {
+            out.matches_tried = r->hypotheses;
+            out.correspondences = r->inliers;
+            const Eigen::Isometry3d in_base = job.camera * r->target_in_camera;
+            for (int i = 0; i < 3; ++i) {
+              for (int j = 0; j < 3; ++j) out.target_r[3 * i + j] = in_base.linear()(i, j);
+              out.target_t_mm[i] = in_base.translation()[i];
+            }
+          }
+          bus.publish(rambo::channels::kPosePeer, out);
+          std::lock_guard<std::mutex> lock(peer_mutex);
+          peer_job.reset();
+        }
+      });
+    }
     runtime.start();
     spdlog::info("ready: {} triangle pairs, {} model triangles", method,
                  cell.model.triangles().size());
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
+    if (peer_thread.joinable()) {
+      {
+        std::lock_guard<std::mutex> lock(peer_mutex);
+        peer_stop = true;
+      }
+      peer_wake.notify_one();
+      peer_thread.join();
+    }
     std::lock_guard<std::mutex> lock(mutex);
     std::string why;
     for (const auto& [reason, n] : reasons) why += fmt::format("; {}: {}", reason, n);

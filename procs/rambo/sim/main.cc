@@ -20,6 +20,7 @@
 // --max-s; the summary is written then.
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <deque>
@@ -113,6 +114,7 @@ struct PendingPrediction {
   double t_eval_s;
   int horizon;
   Eigen::Vector3d predicted_mm;
+  std::vector<Eigen::Vector3d> goals_mm;  // every goal point's predicted position, base, mm
 };
 
 struct World {
@@ -132,9 +134,15 @@ struct World {
   // Summary material.
   std::map<int64_t, Eigen::Isometry3d> truth_by_utime;  // frame capture -> target in base
   std::vector<double> pose_err_mm, pose_err_deg, pose_ms;
+  // Ours by frame (capture utime -> mm, deg, ms) for the peer's frames, and
+  // the peer's (RAMBO_POSE_PEER) and ours on the same frames.
+  std::map<int64_t, std::array<double, 3>> ours_by_utime;
+  std::vector<double> peer_err_mm, peer_err_deg, peer_ms, ours_err_mm, ours_err_deg, ours_ms;
+  int64_t peer_poses = 0, peer_found = 0;
   int64_t poses = 0, poses_found = 0, predictions = 0, bad_messages = 0;
   std::deque<PendingPrediction> pending_predictions;
   std::vector<double> prediction_err_mm[3];
+  std::vector<double> goal_prediction_err_mm[3];  // pooled over the goal points
   std::optional<rambo_plan_t> first_order, last_plan;
   // The schedulers' newest status per host (rt, deadline misses so far) and
   // per process/task (execution time, jobs, misses), from EPHOR_SCHED_STATUS.
@@ -166,6 +174,10 @@ struct World {
     while (!pending_predictions.empty() && pending_predictions.front().t_eval_s <= clock_s) {
       const auto& p = pending_predictions.front();
       prediction_err_mm[p.horizon].push_back((p.predicted_mm - target.translation()).norm());
+      for (std::size_t i = 0; i < p.goals_mm.size(); ++i)
+        goal_prediction_err_mm[p.horizon].push_back(
+            (p.goals_mm[i] - (target * cell.goal_in_target(static_cast<int>(i))).translation())
+                .norm());
       pending_predictions.pop_front();
     }
     if (indicator.tagged_count() != logged_tagged) {
@@ -217,7 +229,13 @@ struct World {
     for (int h = 0; h < 3; ++h)
       pe[fmt::format("{:.1f}s", kHorizonsS[h])] = p50_p99(prediction_err_mm[h]);
     j["prediction_error_mm"] = pe;
-    j["prediction_error_of"] = "the target frame's origin, rigid-body model";
+    nlohmann::json ge;
+    for (int h = 0; h < 3; ++h)
+      ge[fmt::format("{:.1f}s", kHorizonsS[h])] = p50_p99(goal_prediction_err_mm[h]);
+    j["goal_prediction_error_mm"] = ge;
+    j["prediction_error_of"] =
+        "the target frame's origin (prediction_error_mm) and every goal point "
+        "(goal_prediction_error_mm, pooled), rigid-body model";
     if (first_order) {
       j["reaching_trajectories_computed"] = {{"greedy", first_order->greedy_trajectories},
                                              {"exhaustive", first_order->exhaustive_trajectories},
@@ -243,7 +261,18 @@ struct World {
     j["rt"] = sched_hosts.empty() ? nlohmann::json(nullptr) : nlohmann::json(rt);
     j["sched_hosts"] = sched_hosts.size();
     j["sched_tasks"] = sched_tasks;
-    j["missing"] = {"pose_error against the paper's peer (solvePnPRansac) in the same run"};
+    // The peer (OpenCV solvePnPRansac over all point-vertex pairs) on the
+    // frames ephor-rambo-pose gave it (--peer-every), and ours on the same
+    // frames (those where both found a pose).
+    j["peer"] = {{"method", "cv::solvePnPRansac AP3P over every image point x model vertex"},
+                 {"poses", peer_poses},
+                 {"found_with_ours", peer_found},
+                 {"pose_error_mm", p50_p99(peer_err_mm)},
+                 {"pose_error_deg", p50_p99(peer_err_deg)},
+                 {"pose_ms", p50_p99(peer_ms)},
+                 {"ours_pose_error_mm", p50_p99(ours_err_mm)},
+                 {"ours_pose_error_deg", p50_p99(ours_err_deg)},
+                 {"ours_pose_ms", p50_p99(ours_ms)}};
     return j;
   }
 };
@@ -339,6 +368,28 @@ int main(int argc, char** argv) {
       w.pose_err_deg.push_back(rotation_angle_between(est.linear(), it->second.linear()) * 180.0 /
                                M_PI);
       w.pose_ms.push_back(m.pose_ms);
+      w.ours_by_utime[m.utime] = {w.pose_err_mm.back(), w.pose_err_deg.back(), m.pose_ms};
+      while (w.ours_by_utime.size() > 100) w.ours_by_utime.erase(w.ours_by_utime.begin());
+    });
+    bus.subscribe<rambo_pose_t>(rambo::channels::kPosePeer, [&w](const rambo_pose_t& m) {
+      std::lock_guard<std::mutex> lock(w.mutex);
+      ++w.peer_poses;
+      const auto truth = w.truth_by_utime.find(m.utime);
+      const auto ours = w.ours_by_utime.find(m.utime);
+      if (!m.found || truth == w.truth_by_utime.end() || ours == w.ours_by_utime.end()) return;
+      const Eigen::Isometry3d est = from_message(m.target_r, m.target_t_mm);
+      if (!est.matrix().allFinite() || !std::isfinite(m.pose_ms)) {
+        ++w.bad_messages;
+        return;
+      }
+      ++w.peer_found;
+      w.peer_err_mm.push_back((est.translation() - truth->second.translation()).norm());
+      w.peer_err_deg.push_back(rotation_angle_between(est.linear(), truth->second.linear()) *
+                               180.0 / M_PI);
+      w.peer_ms.push_back(m.pose_ms);
+      w.ours_err_mm.push_back(ours->second[0]);
+      w.ours_err_deg.push_back(ours->second[1]);
+      w.ours_ms.push_back(ours->second[2]);
     });
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&w](const rambo_prediction_t& m) {
@@ -361,9 +412,14 @@ int main(int argc, char** argv) {
           }
           ++w.predictions;
           const double t_ref = w.t_of(m.ref_utime);
-          for (int h = 0; h < 3; ++h)
+          for (int h = 0; h < 3; ++h) {
+            const Eigen::Isometry3d pose = f.pose(kHorizonsS[h]);
+            std::vector<Eigen::Vector3d> goals;
+            for (int i = 0; i < w.indicator.size(); ++i)
+              goals.push_back((pose * w.cell.goal_in_target(i)).translation());
             w.pending_predictions.push_back(
-                {t_ref + kHorizonsS[h], h, f.pose(kHorizonsS[h]).translation()});
+                {t_ref + kHorizonsS[h], h, pose.translation(), std::move(goals)});
+          }
           std::sort(w.pending_predictions.begin(), w.pending_predictions.end(),
                     [](const PendingPrediction& a, const PendingPrediction& b) {
                       return a.t_eval_s < b.t_eval_s;

@@ -166,6 +166,9 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
   EXPECT_GE(s.at("deadline_misses").get<int64_t>(), 0);
   ASSERT_TRUE(s.at("rt").is_boolean());
   EXPECT_EQ(s.at("sched_hosts").get<int>(), 4) << "world, vision, planning, robot";
+  // The solvePnPRansac peer ran beside (every 10th frame; the run is short).
+  ASSERT_TRUE(s.contains("peer"));
+  EXPECT_GE(s.at("peer").at("poses").get<int>(), 0);
 }
 
 // A bad model file or diode count: every process that reads the model says
