@@ -37,32 +37,6 @@ Unpacked unpack(const Params& p, const TrueArm& model, const SensorCalibration& 
   return {TrueArm(e), c, Eigen::Vector3d(p[10], p[11], 0.0)};
 }
 
-// Where find_spot puts the spot of radius r (mm) centred at `spot` on the
-// table for the camera pose `cam` (camera -> table): the centroid of its
-// image, an ellipse, whose centre is not the image of the disc's centre
-// (on a view tilted 35 deg from 300 mm the 8 mm spot's differ by ~0.1 px,
-// worth 0.01 deg on the joints). The circle's conic carried into the image
-// by the table-to-image homography gives the ellipse and its centre.
-Eigen::Vector2d spot_image_centre(const Eigen::Isometry3d& cam, const Eigen::Vector3d& spot,
-                                  double r, const CameraIntrinsics& k) {
-  const Eigen::Isometry3d t = cam.inverse();  // table -> camera
-  const Eigen::Vector3d pc = t * spot;
-  // A spot behind the camera cannot be a sighting: a large penalty.
-  if (!(pc.z() > 1.0)) return Eigen::Vector2d(1e4, 1e4);
-  if (!(r > 0.0)) return k.project(pc);
-  Eigen::Matrix3d kk;
-  kk << k.fx_px, 0.0, k.cx_px, 0.0, k.fy_px, k.cy_px, 0.0, 0.0, 1.0;
-  Eigen::Matrix3d h;  // (x - sx, y - sy, 1) on the table -> image
-  h.col(0) = t.linear().col(0);
-  h.col(1) = t.linear().col(1);
-  h.col(2) = pc;
-  h = kk * h;
-  const Eigen::Matrix3d hi = h.inverse();
-  const Eigen::Matrix3d circle = Eigen::Vector3d(1.0, 1.0, -r * r).asDiagonal();
-  const Eigen::Matrix3d q = hi.transpose() * circle * hi;
-  return -q.topLeftCorner<2, 2>().inverse() * q.topRightCorner<2, 1>();
-}
-
 // The spot's predicted pixel minus the measured one, per sighting (px).
 Eigen::VectorXd residuals(const Params& p, const std::vector<SpotSighting>& s,
                           const StripeWorkcell& cell, const TrueArm& model,
@@ -73,7 +47,7 @@ Eigen::VectorXd residuals(const Params& p, const std::vector<SpotSighting>& s,
     const Eigen::Isometry3d cam =
         cell.base_in_table * u.arm.flange(s[i].joints) * u.camera_in_flange;
     r.segment<2>(2 * static_cast<Eigen::Index>(i)) =
-        spot_image_centre(cam, u.spot_mm, spot_radius_mm, current.camera) - s[i].spot_px;
+        spot_centroid_px(cam, u.spot_mm, spot_radius_mm, current.camera) - s[i].spot_px;
   }
   return r;
 }
@@ -115,6 +89,28 @@ double lefty_righty_gap(const Params& p, const std::vector<SpotSighting>& s,
 }
 
 }  // namespace
+
+Eigen::Vector2d spot_centroid_px(const Eigen::Isometry3d& cam, const Eigen::Vector3d& spot,
+                                 double r, const CameraIntrinsics& k) {
+  // The circle's conic carried into the image by the table-to-image
+  // homography is the ellipse; its centre is the centroid.
+  const Eigen::Isometry3d t = cam.inverse();  // table -> camera
+  const Eigen::Vector3d pc = t * spot;
+  // A spot behind the camera cannot be a sighting: a large penalty.
+  if (!(pc.z() > 1.0)) return Eigen::Vector2d(1e4, 1e4);
+  if (!(r > 0.0)) return k.project(pc);
+  Eigen::Matrix3d kk;
+  kk << k.fx_px, 0.0, k.cx_px, 0.0, k.fy_px, k.cy_px, 0.0, 0.0, 1.0;
+  Eigen::Matrix3d h;  // (x - sx, y - sy, 1) on the table -> image
+  h.col(0) = t.linear().col(0);
+  h.col(1) = t.linear().col(1);
+  h.col(2) = pc;
+  h = kk * h;
+  const Eigen::Matrix3d hi = h.inverse();
+  const Eigen::Matrix3d circle = Eigen::Vector3d(1.0, 1.0, -r * r).asDiagonal();
+  const Eigen::Matrix3d q = hi.transpose() * circle * hi;
+  return -q.topLeftCorner<2, 2>().inverse() * q.topRightCorner<2, 1>();
+}
 
 ZeroReferenceCalibrator::ZeroReferenceCalibrator(StripeWorkcell cell, ZeroReferenceOptions options)
     : cell_(cell), options_(std::move(options)) {}
@@ -252,6 +248,7 @@ ZeroReferenceResult ZeroReferenceCalibrator::fit(const std::vector<SpotSighting>
   r.updated.camera_in_flange = u.camera_in_flange;
   r.spot_mm = u.spot_mm.head<2>();
   r.sightings = sightings.size();
+  r.sightings_used = sightings;
   for (const SpotSighting& s : sightings) r.lefty_sightings += s.lefty ? 1 : 0;
   r.iterations = it;
   r.rms_px = std::sqrt(cost / static_cast<double>(sightings.size()));

@@ -74,6 +74,16 @@ struct SpotSighting {
   bool lefty = false;       // shoulder branch (the paper's: cos q2 > 0 is lefty)
 };
 
+// Where find_spot puts the table's spot (a dark disc of radius_mm centred
+// at spot_mm on z = 0, table frame) for the camera pose `camera_in_table`
+// (camera -> table): the centroid of its image, the centre of the disc's
+// perspective ellipse (not the image of the disc's centre: on a view
+// tilted 35 deg from 300 mm the 8 mm spot's differ by ~0.1 px, worth 0.01
+// deg on the joints). Far off-image (1e4, 1e4) when behind the camera.
+Eigen::Vector2d spot_centroid_px(const Eigen::Isometry3d& camera_in_table,
+                                 const Eigen::Vector3d& spot_mm, double radius_mm,
+                                 const CameraIntrinsics& camera);
+
 struct ZeroReferenceResult {
   arm::Joints zero_offset_rad = arm::Joints::Zero();  // the new model's (physical = reading + it)
   arm::Joints correction_rad = arm::Joints::Zero();   // new minus the starting model's
@@ -92,6 +102,7 @@ struct ZeroReferenceResult {
   // Ratio of the fit Jacobian's largest to smallest singular value (scaled
   // parameters): large means the views do not separate the unknowns.
   double condition = 0.0;
+  std::vector<SpotSighting> sightings_used;  // what the fit used (for a later joint refinement)
 };
 
 class ZeroReferenceCalibrator {
