@@ -26,6 +26,8 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include "common/camera/channel_converter.h"
+#include "common/camera/frame_source.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -33,8 +35,6 @@
 #include "common/runtime/task_runtime.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
-#include "procs/shared/camera/channel_converter.h"
-#include "procs/shared/camera/frame_source.h"
 
 namespace {
 

@@ -42,14 +42,14 @@
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
+#include "common/shepherd/calibrate/calibration_plan.h"
+#include "common/shepherd/calibrate/joint_move.h"
+#include "common/shepherd/calibrate/tool_spot_finder.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/shepherd_tool_light_t.hpp"
-#include "procs/shepherd/calibrate/calibration_plan.h"
-#include "procs/shepherd/calibrate/joint_move.h"
-#include "procs/shepherd/calibrate/tool_spot_finder.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // ephor-sim: the simulated work cell in real time - sheep on the field, the
-// PUMA 560's servo layer and the overhead camera (procs/shepherd/sim/simulator.h).
+// PUMA 560's servo layer and the overhead camera (common/shepherd/sim/simulator.h).
 //
 //   ephor-sim --sheep 4 --seed 1 --fps 30
 //
@@ -40,6 +40,7 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
+#include "common/shepherd/sim/simulator.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
 #include "ephor/joint_state_t.hpp"
@@ -48,7 +49,6 @@
 #include "ephor/shepherd_sim_cmd_t.hpp"
 #include "ephor/shepherd_tool_light_t.hpp"
 #include "procs/shepherd/sim/sim_config.h"
-#include "procs/shepherd/sim/simulator.h"
 
 namespace {
 

@@ -16,7 +16,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "procs/shepherd/sim/simulator.h"
+#include "common/shepherd/sim/simulator.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "procs/shepherd/sim/simulator.h"
+#include "common/shepherd/sim/simulator.h"
 
 namespace ephor::sim {
 

@@ -8,10 +8,10 @@
 
 #include "common/arm/arm_workcell.h"
 #include "common/calibration/field_calibration.h"
-#include "procs/shepherd/calibrate/calibration_plan.h"
-#include "procs/shepherd/calibrate/joint_move.h"
-#include "procs/shepherd/calibrate/tool_spot_finder.h"
-#include "procs/shepherd/sim/simulator.h"
+#include "common/shepherd/calibrate/calibration_plan.h"
+#include "common/shepherd/calibrate/joint_move.h"
+#include "common/shepherd/calibrate/tool_spot_finder.h"
+#include "common/shepherd/sim/simulator.h"
 
 namespace ephor::calibrate {
 namespace {

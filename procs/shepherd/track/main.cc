@@ -18,9 +18,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/camera/channel_converter.h"
+#include "common/camera/frame_source.h"
 #include "common/runtime/process_args.h"
-#include "procs/shared/camera/channel_converter.h"
-#include "procs/shared/camera/frame_source.h"
 #include "procs/shepherd/track/offline_tracker.h"
 
 int main(int argc, char** argv) {

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "procs/shepherd/vision/image_view.h"
-#include "procs/shepherd/vision/vision_pipeline.h"
-#include "procs/shepherd/worldmodel/world_model.h"
+#include "common/shepherd/vision/image_view.h"
+#include "common/shepherd/vision/vision_pipeline.h"
+#include "common/shepherd/worldmodel/world_model.h"
 
 namespace ephor::track {
 

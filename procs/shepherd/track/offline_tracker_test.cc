@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "procs/shepherd/vision/synthetic_image.h"
+#include "common/shepherd/vision/synthetic_image.h"
 
 namespace ephor::track {
 namespace {

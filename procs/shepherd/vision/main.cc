@@ -29,11 +29,11 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
+#include "common/shepherd/vision/vision_pipeline.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_vision_cmd_t.hpp"
-#include "procs/shepherd/vision/vision_pipeline.h"
 
 namespace {
 

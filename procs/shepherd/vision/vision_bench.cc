@@ -38,10 +38,10 @@
 
 #include "common/runtime/process_args.h"
 #include "common/runtime/thread_sched.h"
-#include "procs/shepherd/vision/blobifier.h"
-#include "procs/shepherd/vision/synthetic_image.h"
-#include "procs/shepherd/vision/threshold_selector.h"
-#include "procs/shepherd/vision/trackifier.h"
+#include "common/shepherd/vision/blobifier.h"
+#include "common/shepherd/vision/synthetic_image.h"
+#include "common/shepherd/vision/threshold_selector.h"
+#include "common/shepherd/vision/trackifier.h"
 
 // Counts heap allocations, to show that blobify/trackify allocate nothing per
 // frame in steady state.

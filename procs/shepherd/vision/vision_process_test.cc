@@ -24,12 +24,12 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/runtime/channels.h"
+#include "common/shepherd/vision/synthetic_image.h"
 #include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_vision_cmd_t.hpp"
 #include "ephor/task_register_t.hpp"
-#include "procs/shepherd/vision/synthetic_image.h"
 #include "procs/shepherd/vision/test_child_process.h"
 
 namespace ephor::vision {

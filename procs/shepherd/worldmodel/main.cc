@@ -1,6 +1,6 @@
 // ephor-worldmodel: blobs (BLOBS, shepherd_blobs_t) -> tracked objects (OBJECTS,
 // shepherd_objects_t), paper 003 sections 4.2 and 4.3. A thin main: the work is in
-// WorldModel (procs/shepherd/worldmodel/world_model.h).
+// WorldModel (common/shepherd/worldmodel/world_model.h).
 //
 // The BLOBS subscription (bus thread) keeps the newest blobs in a mailbox
 // and triggers the task "associate", which takes them, runs the four
@@ -30,10 +30,10 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
+#include "common/shepherd/worldmodel/world_model.h"
 #include "common/time/clock.h"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_objects_t.hpp"
-#include "procs/shepherd/worldmodel/world_model.h"
 
 namespace {
 
@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
   app.add_option("--mark-height-mm", config.mark_height_mm,
                  "height in F of the sheep's marks, mm (the calibration is evaluated there)")
       ->check(CLI::Range(-1000.0, 2000.0));
-  config.mark_diameter_mm = 42.0;  // the simulator's wool marks (procs/shepherd/sim/world.h)
+  config.mark_diameter_mm = 42.0;  // the simulator's wool marks (common/shepherd/sim/world.h)
   app.add_option("--mark-diameter-mm", config.mark_diameter_mm,
                  "diameter of a whole mark, mm: a new blob much smaller is a mark still partly "
                  "under the arm and is measured once whole (0 = unknown, measure at once)")

@@ -43,8 +43,8 @@
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
 #include "common/runtime/process_args.h"
-#include "procs/shepherd/worldmodel/alpha_beta_filter.h"
-#include "procs/shepherd/worldmodel/world_model.h"
+#include "common/shepherd/worldmodel/alpha_beta_filter.h"
+#include "common/shepherd/worldmodel/world_model.h"
 
 namespace {
 
@@ -64,7 +64,7 @@ struct Config {
 };
 
 // One sheep's path in F (mm), sampled every frame. Heading wander as the
-// simulator's (procs/shepherd/sim/world.h): the turn rate is an Ornstein-Uhlenbeck
+// simulator's (common/shepherd/sim/world.h): the turn rate is an Ornstein-Uhlenbeck
 // process with standard deviation wander_rad_s and correlation time 5 s;
 // 0 = a straight line.
 struct Track {
