@@ -1,10 +1,9 @@
 #include "common/stripe/zero_reference_calibrator.h"
 
 #include <cmath>
-#include <limits>
 #include <numbers>
 
-#include <Eigen/SVD>
+#include "common/stripe/least_squares.h"
 
 namespace ephor::stripe {
 
@@ -50,22 +49,6 @@ Eigen::VectorXd residuals(const Params& p, const std::vector<SpotSighting>& s,
         spot_centroid_px(cam, u.spot_mm, spot_radius_mm, current.camera) - s[i].spot_px;
   }
   return r;
-}
-
-Eigen::MatrixXd jacobian(const Params& p, const std::vector<SpotSighting>& s,
-                         const StripeWorkcell& cell, const TrueArm& model,
-                         const SensorCalibration& current, double radius) {
-  Eigen::MatrixXd j(2 * s.size(), kParams);
-  const double h = 1e-4;  // mrad or mm: central differences
-  for (int k = 0; k < kParams; ++k) {
-    Params a = p, b = p;
-    a[k] += h;
-    b[k] -= h;
-    j.col(k) = (residuals(a, s, cell, model, current, radius) -
-                residuals(b, s, cell, model, current, radius)) /
-               (2.0 * h);
-  }
-  return j;
 }
 
 // Mean table point (z = 0) of the lefty sightings' rays minus the righty
@@ -197,50 +180,16 @@ ZeroReferenceResult ZeroReferenceCalibrator::fit(const std::vector<SpotSighting>
   p[11] = options_.spot_guess_mm.y();
   ZeroReferenceResult r;
   r.lefty_righty_gap_before_mm = lefty_righty_gap(p, sightings, cell_, model, current);
-  // Levenberg-Marquardt (Marquardt's scaling) on numerical Jacobians: 12
-  // unknowns and a few hundred residuals need no more.
-  Eigen::VectorXd res = residuals(p, sightings, cell_, model, current, options_.spot_radius_mm);
-  double cost = res.squaredNorm();
-  double lambda = 1e-3;
-  int it = 0;
-  bool converged = false;
-  for (; it < 100 && !converged; ++it) {
-    const Eigen::MatrixXd j =
-        jacobian(p, sightings, cell_, model, current, options_.spot_radius_mm);
-    const Eigen::MatrixXd a = j.transpose() * j;
-    const Eigen::VectorXd g = j.transpose() * res;
-    bool improved = false;
-    Params step = Params::Zero();
-    while (lambda < 1e12) {
-      Eigen::MatrixXd damped = a;
-      damped.diagonal() += lambda * a.diagonal().cwiseMax(1e-9);
-      step = damped.ldlt().solve(-g);
-      const Params trial = p + step;
-      const Eigen::VectorXd trial_res =
-          residuals(trial, sightings, cell_, model, current, options_.spot_radius_mm);
-      const double trial_cost = trial_res.squaredNorm();
-      if (trial_cost < cost) {
-        p = trial;
-        res = trial_res;
-        const double gain = cost - trial_cost;
-        cost = trial_cost;
-        lambda = std::max(1e-12, lambda / 10.0);
-        improved = true;
-        converged = gain < 1e-12 * std::max(1.0, cost);
-        break;
-      }
-      lambda *= 10.0;
-    }
-    if (!improved || step.norm() < 1e-9) break;
-  }
-  if (!std::isfinite(cost))
+  const LeastSquaresResult ls = solve_least_squares(
+      [&](const Eigen::VectorXd& x) {
+        return residuals(Params(x), sightings, cell_, model, current, options_.spot_radius_mm);
+      },
+      p);
+  if (!std::isfinite(ls.cost))
     throw CalibrationError("zero references: the least-squares fit diverged");
-  const Eigen::MatrixXd j = jacobian(p, sightings, cell_, model, current, options_.spot_radius_mm);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j);
-  const auto sv = svd.singularValues();
-  r.condition =
-      sv[sv.size() - 1] > 0.0 ? sv[0] / sv[sv.size() - 1] : std::numeric_limits<double>::infinity();
-
+  p = ls.x;
+  r.condition = ls.condition;
+  const Eigen::VectorXd& res = ls.residuals;
   const Unpacked u = unpack(p, model, current);
   r.zero_offset_rad = u.arm.errors().zero_offset_rad;
   r.correction_rad = r.zero_offset_rad - model.errors().zero_offset_rad;
@@ -250,8 +199,8 @@ ZeroReferenceResult ZeroReferenceCalibrator::fit(const std::vector<SpotSighting>
   r.sightings = sightings.size();
   r.sightings_used = sightings;
   for (const SpotSighting& s : sightings) r.lefty_sightings += s.lefty ? 1 : 0;
-  r.iterations = it;
-  r.rms_px = std::sqrt(cost / static_cast<double>(sightings.size()));
+  r.iterations = ls.iterations;
+  r.rms_px = std::sqrt(ls.cost / static_cast<double>(sightings.size()));
   for (Eigen::Index i = 0; i + 1 < res.size(); i += 2)
     r.max_px = std::max(r.max_px, res.segment<2>(i).norm());
   r.lefty_righty_gap_after_mm = lefty_righty_gap(p, sightings, cell_, model, current);
