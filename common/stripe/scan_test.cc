@@ -126,5 +126,31 @@ TEST(PyramidApexTest, LocatesTheApex) {
   EXPECT_LT((scanned->apex_mm - Eigen::Vector3d(0, 0, 60)).norm(), 0.2);
 }
 
+// Stray points (5 mm off a face) and a face seen only as a narrow band
+// whose points are tilted (as a grazing view's few stripe points can be):
+// the outliers are trimmed and the band is left out, so the apex stays
+// where the three good faces put it; with the band kept it would not.
+TEST(PyramidApexTest, TrimsStrayPointsAndDropsABandLikeFace) {
+  std::vector<Eigen::Vector3d> pts;
+  for (double x = -55; x <= 55; x += 2.5)
+    for (double y = -55; y <= 55; y += 2.5) {
+      const double z = 60.0 - std::max(std::abs(x), std::abs(y));
+      const bool plus_x = x > std::abs(y);
+      if (plus_x && !(y >= 10.0 && y <= 12.5)) continue;  // +x face: one band only
+      // The band's heights tilted by 1 mm per 10 mm along x.
+      pts.emplace_back(x, y, plus_x ? z + 0.1 * (x - 30.0) : z);
+    }
+  for (int i = 0; i < 10; ++i) pts.emplace_back(-30.0 + i, -5.0, 30.0 + i + 5.0);  // off -x face
+  const auto a = PyramidApex::locate(pts, Eigen::Vector3d(0, 0, 60));
+  ASSERT_TRUE(a.has_value());
+  EXPECT_LT((a->apex_mm - Eigen::Vector3d(0, 0, 60)).norm(), 1e-6);
+  PyramidApexOptions keep_all;
+  keep_all.min_face_spread_mm = 0.0;
+  keep_all.trim_rounds = 0;
+  const auto b = PyramidApex::locate(pts, Eigen::Vector3d(0, 0, 60), keep_all);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_GT((b->apex_mm - Eigen::Vector3d(0, 0, 60)).norm(), 0.5);
+}
+
 }  // namespace
 }  // namespace ephor::stripe
