@@ -224,6 +224,7 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     int robot_seed;
     bool links;
     arm::Joints truth;
+    double camera_mm, camera_deg, plane_deg, plane_mm;
     CalibrationRefinement result;
   };
   std::vector<RefineRow> refinements;
@@ -382,7 +383,24 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
             fj["correction_deg"].push_back(f.correction_rad[k] * 180 / kPi);
           row(links ? "+ refinement with link errors" : "+ refinement (zero refs, C_T, plane)",
               f.arm, f.updated, fj);
-          refinements.push_back({rs, links, truth.arm.errors().zero_offset_rad, f});
+          // Against the truth as the refined model can see it: link 6 (its
+          // zero reference and DH errors) goes into C_T and S_T.
+          const arm::DhLink& l6 = truth.arm.errors().dh_error[5];
+          const Eigen::Isometry3d e6 =
+              Eigen::AngleAxisd(truth.arm.errors().zero_offset_rad[5], Eigen::Vector3d::UnitZ()) *
+              Eigen::Translation3d(l6.a_mm, 0.0, l6.d_mm) *
+              Eigen::AngleAxisd(l6.alpha_rad, Eigen::Vector3d::UnitX());
+          const Eigen::Isometry3d tc = e6 * truth.cage.camera_in_flange;
+          const Eigen::Isometry3d tp = e6 * truth.cage.projector_in_flange;
+          const Eigen::Isometry3d& rc = f.updated.camera_in_flange;
+          const Eigen::Isometry3d& fp = f.updated.projector_in_flange;
+          const Eigen::Vector3d n = tp.linear().col(0);
+          refinements.push_back(
+              {rs, links, truth.arm.errors().zero_offset_rad,
+               (rc.translation() - tc.translation()).norm(),
+               Eigen::AngleAxisd(rc.linear().transpose() * tc.linear()).angle() * 180 / kPi,
+               std::acos(std::clamp(std::abs(fp.linear().col(0).dot(n)), -1.0, 1.0)) * 180 / kPi,
+               std::abs(n.dot(fp.translation() - tp.translation())), f});
         }
       } catch (const CalibrationError& e) {
         failed("zero refs, fitted C_T + plane / refinement", e);
@@ -458,6 +476,14 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     c["worst_error_deg"] = worst;
     c["spot_rms_px"] = r.spot_rms_px;
     c["table_rms_mm"] = r.table_rms_mm;
+    std::printf(
+        "                     C_T off the truth %.3f mm / %.4f deg; light plane %.4f deg /"
+        " %.3f mm (link 6 folded in)\n",
+        f.camera_mm, f.camera_deg, f.plane_deg, f.plane_mm);
+    c["camera_position_error_mm"] = f.camera_mm;
+    c["camera_rotation_error_deg"] = f.camera_deg;
+    c["light_plane_normal_error_deg"] = f.plane_deg;
+    c["light_plane_offset_error_mm"] = f.plane_mm;
     calibration_refined.push_back(c);
   }
   return out;
