@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <iostream>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -517,17 +518,27 @@ int main(int argc, char** argv) {
     std::cerr << "ephor-bench-stripe: " << e.what() << "\n";
     return 2;
   }
+  std::set<std::string> wanted;
+  for (size_t start = 0; start <= sections.size();) {
+    const size_t comma = std::min(sections.find(',', start), sections.size());
+    const std::string name = sections.substr(start, comma - start);
+    if (name != "random" && name != "scene" && name != "direction") {
+      std::cerr << "ephor-bench-stripe: --sections: unknown section \"" << name
+                << "\" (random, scene, direction)\n";
+      return 2;
+    }
+    wanted.insert(name);
+    start = comma + 1;
+  }
   if (!out_dir.empty() && !std::filesystem::is_directory(out_dir)) {
     std::cerr << "ephor-bench-stripe: --out-dir " << out_dir << " is not a directory\n";
     return 2;
   }
   try {
     nlohmann::json out;
-    if (sections.find("random") != std::string::npos)
-      out["random_error"] = random_error_and_speed(scenes, seed, out_dir);
-    if (sections.find("scene") != std::string::npos)
-      out["whole_scene"] = whole_scene(scenes, seed, out_dir);
-    if (sections.find("direction") != std::string::npos) {
+    if (wanted.count("random")) out["random_error"] = random_error_and_speed(scenes, seed, out_dir);
+    if (wanted.count("scene")) out["whole_scene"] = whole_scene(scenes, seed, out_dir);
+    if (wanted.count("direction")) {
       nlohmann::json calibration, refined = nlohmann::json::array();
       out["direction_dependent"] =
           direction_dependent(scenes, seed, robot_seeds, calibration, refined);
