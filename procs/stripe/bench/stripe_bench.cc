@@ -209,8 +209,8 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
       "Direction-dependent error (section 5): pyramid apex from %zu views (approach "
       "down / tilted 25 deg from +-x, +-y; stripes along x / y; 270 / 330 mm)\n",
       views.size());
-  std::printf("  %-10s %-44s %8s %14s %14s %9s %9s\n", "robot", "model", "located",
-              "worst_shift_mm", "worst_abs_mm", "cam_deg", "plane_deg");
+  std::printf("  %-10s %-44s %8s %14s %14s %9s %9s %9s\n", "robot", "model", "located",
+              "worst_shift_mm", "worst_abs_mm", "cam_deg", "cam_rot", "plane_deg");
   const StripeScene table;  // calibration on the empty table, its spot at the origin
   const Eigen::Vector2d spot(0, 0);
   const StripeWorkcell cell;
@@ -261,14 +261,18 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
           std::acos(
               std::clamp(cal.camera_in_flange.linear().col(2).dot(tc.linear().col(2)), -1.0, 1.0)) *
           180 / kPi;
+      // The whole turn (axis and roll about it), not only the axis.
+      const double cam_rot_err =
+          Eigen::AngleAxisd(cal.camera_in_flange.linear().transpose() * tc.linear()).angle() * 180 /
+          kPi;
       const double plane_err =
           std::acos(
               std::clamp(std::abs(cal.projector_in_flange.linear().col(0).dot(tp.linear().col(0))),
                          -1.0, 1.0)) *
           180 / kPi;
-      std::printf("  %-10s %-44s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f\n", robot.c_str(),
+      std::printf("  %-10s %-44s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f %9.3f\n", robot.c_str(),
                   name.c_str(), e.located, views.size(), e.worst_from_mean_mm,
-                  e.worst_from_truth_mm, cam_axis_err, plane_err);
+                  e.worst_from_truth_mm, cam_axis_err, cam_rot_err, plane_err);
       std::fflush(stdout);
       nlohmann::json apexes = nlohmann::json::array();
       for (size_t v = 0; v < views.size(); ++v)
@@ -285,6 +289,7 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
                              {"worst_shift_from_mean_mm", e.worst_from_mean_mm},
                              {"worst_from_true_apex_mm", e.worst_from_truth_mm},
                              {"camera_axis_error_deg", cam_axis_err},
+                             {"camera_rotation_error_deg", cam_rot_err},
                              {"light_plane_normal_error_deg", plane_err}});
     };
     auto failed = [&](const std::string& name, const CalibrationError& e) {
