@@ -102,7 +102,14 @@ int main(int argc, char** argv) {
       bool complete = false;
       {
         std::lock_guard<std::mutex> lock(mutex);
+        const int64_t restarts_before = assembler.restarts();
         why = assembler.add(from_message(m));
+        if (assembler.restarts() != restarts_before) {
+          spdlog::warn(
+              "SPHERE_SCAN_LINE from {}: scan clock and line counter went back (line {} at {:.3f} "
+              "s): the ranger restarted; assembling its windows afresh",
+              m.header.sender, m.line, m.num_pulses > 0 ? m.t_s.front() : 0.0);
+        }
         for (AssembledWindow& w : assembler.take_complete()) {
           ready.push_back(std::move(w));
           complete = true;

@@ -52,6 +52,16 @@ std::string WindowAssembler::add(const LineMessage& m) {
     }
   }
   const int64_t first = index_of(m.t_s.front());
+  if (first < emitted_up_to_ - kRestartWindows && m.line < last_line_) {
+    // Far back in time and in the line counter: the ranger started again
+    // (its scan clock and counter restart at 0). Its windows are new ones;
+    // refusing them as late would blind the locator until the new clock
+    // caught up with the old one.
+    open_.clear();
+    emitted_up_to_ = -1;
+    ++restarts_;
+  }
+  last_line_ = m.line;
   if (first <= emitted_up_to_) {
     ++late_;
     return refuse("line " + std::to_string(m.line) + ": late, window " + std::to_string(first) +

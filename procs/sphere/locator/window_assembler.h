@@ -11,6 +11,9 @@
 // window arrives (the flag's message was lost). Lines are assigned by
 // their pulses' times, so a locator whose --window-s differs from the
 // ranger's still gets [kW, (k+1)W) (lines that straddle a boundary are split).
+// A line one to kRestartWindows windows behind the newest window located is
+// late and refused; further back, with the line counter gone back too, the
+// ranger has restarted and the assembler starts over.
 
 #include <cstdint>
 #include <map>
@@ -54,6 +57,10 @@ class WindowAssembler {
   double window_s() const { return window_s_; }
   int64_t refused() const { return refused_; }
   int64_t late() const { return late_; }
+  // Times the scan clock and line counter went back by more than
+  // kRestartWindows windows (a restarted ranger): the assembler starts over.
+  int64_t restarts() const { return restarts_; }
+  static constexpr int64_t kRestartWindows = 4;
 
  private:
   struct Open {
@@ -68,8 +75,9 @@ class WindowAssembler {
 
   double window_s_;
   std::map<int64_t, Open> open_;
-  int64_t emitted_up_to_ = -1;  // windows <= this were returned
-  int64_t refused_ = 0, late_ = 0;
+  int64_t emitted_up_to_ = -1;     // windows <= this were returned
+  int64_t last_line_ = INT64_MIN;  // the newest accepted line's counter
+  int64_t refused_ = 0, late_ = 0, restarts_ = 0;
 };
 
 }  // namespace ephor::sphere

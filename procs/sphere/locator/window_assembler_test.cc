@@ -53,6 +53,25 @@ TEST(WindowAssembler, ALaterLineCompletesTheWindowWhenTheMarkIsLost) {
   EXPECT_EQ(a.late(), 1);
 }
 
+TEST(WindowAssembler, ARestartedRangerIsFollowedNotRefusedAsLate) {
+  WindowAssembler a(0.5);
+  // Ten windows of one line each (window k's line at 0.5 k s), all located.
+  for (int k = 0; k < 10; ++k) a.add(line(100 + k, 0.5 * k, 10, k));
+  a.add(line(200, 5.0, 10, 10));
+  ASSERT_EQ(a.take_complete().size(), 10u);
+  // A line two windows back with an older counter is still late...
+  EXPECT_NE(a.add(line(105, 4.0, 10, 8)).find("late"), std::string::npos);
+  EXPECT_EQ(a.restarts(), 0);
+  // ...but the scan clock and the counter back at the start: a new ranger.
+  EXPECT_EQ(a.add(line(0, 0.0, 10, 0)), "");
+  EXPECT_EQ(a.restarts(), 1);
+  EXPECT_EQ(a.add(line(1, 0.6, 10, 1)), "");
+  const auto done = a.take_complete();
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].index, 0);
+  EXPECT_EQ(done[0].lines_received, 1) << "the old ranger's open window was dropped";
+}
+
 TEST(WindowAssembler, SplitsALineThatStraddlesItsWindowBoundary) {
   WindowAssembler a(0.25);     // the ranger's windows are 0.5 s
   a.add(line(0, 0.2495, 10));  // 0.2495 .. 0.2504
