@@ -1,8 +1,11 @@
 // ephor-bench-sched: release jitter of a 1 kHz periodic task, measured the
 // way the task runtime releases jobs (absolute clock_nanosleep on
-// CLOCK_MONOTONIC, PeriodicRelease), under four conditions:
-//   SCHED_OTHER idle, SCHED_FIFO idle, SCHED_OTHER + CPU hog, SCHED_FIFO + CPU hog
-// (the hog is a busy loop pinned to the same CPU), and cyclictest (rt-tests)
+// CLOCK_MONOTONIC, PeriodicRelease), under five conditions:
+//   SCHED_OTHER idle, SCHED_FIFO idle, SCHED_FIFO idle holding a CPU wake-up
+//   latency request of 0 us (PM QoS, as ephor-scheduler does while a system
+//   runs), SCHED_OTHER + CPU hog, SCHED_FIFO + CPU hog
+// (the hog is a busy loop pinned to the same CPU), and cyclictest (rt-tests,
+// which makes the same PM QoS request by default)
 // with the same interval, priority, CPU and duration as the peer, idle and
 // with the hog, in the same run.
 //
@@ -16,6 +19,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,6 +27,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/runtime/cpu_latency_request.h"
 #include "common/runtime/periodic_release.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/thread_sched.h"
@@ -67,7 +72,14 @@ void stop_hog(pid_t pid) {
 }
 
 Result measure(const std::string& name, bool fifo, bool hog, int cpu, int priority,
-               double duration_s, int64_t period_ns) {
+               double duration_s, int64_t period_ns, bool cpu_latency_request = false) {
+  // What ephor-scheduler holds while a system runs (and cyclictest holds by
+  // default): idle CPUs poll instead of halting.
+  std::unique_ptr<CpuLatencyRequest> wake_up;
+  if (cpu_latency_request) {
+    wake_up = std::make_unique<CpuLatencyRequest>(0);
+    if (!wake_up->held()) std::fprintf(stderr, "warning: %s\n", wake_up->error().c_str());
+  }
   Result r;
   r.name = name;
   r.fifo = fifo;
@@ -188,13 +200,15 @@ int main(int argc, char** argv) {
   };
   run(measure("ephor SCHED_OTHER idle", false, false, cpu, priority, duration_s, period_ns));
   run(measure("ephor SCHED_FIFO idle", true, false, cpu, priority, duration_s, period_ns));
+  run(measure("ephor SCHED_FIFO idle, PM QoS 0", true, false, cpu, priority, duration_s, period_ns,
+              true));
   run(measure("ephor SCHED_OTHER + hog", false, true, cpu, priority, duration_s, period_ns));
   run(measure("ephor SCHED_FIFO + hog", true, true, cpu, priority, duration_s, period_ns));
   run(cyclictest("cyclictest idle", false, cpu, priority, duration_s, period_ns));
   run(cyclictest("cyclictest + hog", true, cpu, priority, duration_s, period_ns));
 
-  const Result& ours = results[3];
-  const Result& peer = results[5];
+  const Result& ours = results[4];
+  const Result& peer = results[6];
   const double ratio = peer.max > 0 ? ours.max / peer.max : 0.0;
   const bool p99_ok = ours.p99 < 100.0;
   const bool max_ok = ratio > 0 && ratio <= 2.0;
