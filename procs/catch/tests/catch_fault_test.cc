@@ -11,9 +11,12 @@
 // and the recorded log has no hole on CATCH_WORLD or ARM_STATE longer than
 // a restart and the vision's ten initialisation frames.
 //
-// Not checked here: that the arm executes no goal twice across its own
-// restart (its ledger of answered commands is in memory; the comm test and
-// the arm's unit tests cover repeats to a running arm).
+// And the arm executes no goal twice, its own restart included: every goal
+// the arm's log says it set off on ("seq S goal G: ... move") is a different
+// G. (A restarted arm has lost its ledger of answered commands; what keeps
+// a retransmission from being run again is the command age limit: comm's
+// retransmissions carry the first sending time and the arm refuses a
+// command sent more than 200 ms ago.)
 
 #include <signal.h>
 #include <unistd.h>
@@ -169,6 +172,19 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
       EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
     }
   }
+
+  // No goal executed twice.
+  std::map<std::string, int> started;
+  for (const std::string& line : p.lines("launch")) {
+    if (line.find("[arm ") == std::string::npos) continue;
+    const auto at = line.find(" goal ");
+    const auto colon = at == std::string::npos ? at : line.find(": ", at);
+    if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
+    ++started[line.substr(at + 6, colon - at - 6)];
+  }
+  std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
+  EXPECT_GE(started.size(), 5u) << "the arm was hardly sent anything";
+  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
 
   // The restarted monitor's summary: the balls after its restart, judged.
   nlohmann::json s;
