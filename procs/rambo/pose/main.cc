@@ -93,7 +93,12 @@ int main(int argc, char** argv) {
     // so a frame is taken up only once the arm has reported past it; what
     // the estimate sees then does not depend on how fast messages arrived,
     // and a recorded run replays to the same poses (rambo_replay_test).
-    std::deque<rambo_features_t> ready;
+    struct ReadyFrame {
+      rambo_features_t features;
+      std::optional<arm::Joints> q;        // at the capture time (rad)
+      std::optional<FittedMotion> motion;  // the predictor's newest fit then
+    };
+    std::deque<ReadyFrame> ready;
     std::optional<rambo_features_t> waiting;
     int64_t dropped = 0;  // frames not estimated: more than kMaxReady behind
     constexpr std::size_t kMaxReady = 5;
@@ -132,44 +137,6 @@ int main(int argc, char** argv) {
           motion = fm;
         });
 
-    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      arm::Joints q;
-      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
-      if (!q.allFinite()) {
-        ++bad;
-        return;
-      }
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!joints.empty() && m.utime <= joints.back().first) return;
-        joints.emplace_back(m.utime, q);
-        while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
-        if (!waiting || m.utime < waiting->utime) return;
-        ready.push_back(std::move(*waiting));
-        waiting.reset();
-      }
-      runtime.trigger("pose");
-    });
-    bus.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        // A newer frame: the one still waiting goes as it is (its camera
-        // pose from the last state, or none).
-        if (waiting) ready.push_back(std::move(*waiting));
-        waiting.reset();
-        if (!joints.empty() && joints.back().first >= m.utime)
-          ready.push_back(m);
-        else
-          waiting = m;
-        while (ready.size() > kMaxReady) {
-          ready.pop_front();
-          ++dropped;
-        }
-        if (ready.empty()) return;
-      }
-      runtime.trigger("pose");
-    });
-
     // The joints at utime, linear between ARM_STATE samples (caller holds mutex).
     auto joints_at = [&](int64_t utime) -> std::optional<arm::Joints> {
       if (joints.empty() || utime < joints.front().first) return std::nullopt;
@@ -185,15 +152,65 @@ int main(int argc, char** argv) {
       return std::nullopt;
     };
 
+    // A frame taken up with the camera's joints and the predictor's motion
+    // as they are when it becomes ready, in the order messages came (caller
+    // holds mutex): what its pose then depends on does not depend on how
+    // long the pose task took to get to it.
+    auto make_ready = [&](rambo_features_t f) {
+      ReadyFrame r;
+      r.q = joints_at(f.utime);
+      r.motion = motion;
+      r.features = std::move(f);
+      ready.push_back(std::move(r));
+    };
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      arm::Joints q;
+      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
+      if (!q.allFinite()) {
+        ++bad;
+        return;
+      }
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!joints.empty() && m.utime <= joints.back().first) return;
+        joints.emplace_back(m.utime, q);
+        while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
+        if (!waiting || m.utime < waiting->utime) return;
+        make_ready(std::move(*waiting));
+        waiting.reset();
+      }
+      runtime.trigger("pose");
+    });
+    bus.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        // A newer frame: the one still waiting goes as it is (its camera
+        // pose from the last state, or none).
+        if (waiting) make_ready(std::move(*waiting));
+        waiting.reset();
+        if (!joints.empty() && joints.back().first >= m.utime)
+          make_ready(m);
+        else
+          waiting = m;
+        while (ready.size() > kMaxReady) {
+          ready.pop_front();
+          ++dropped;
+        }
+        if (ready.empty()) return;
+      }
+      runtime.trigger("pose");
+    });
+
     runtime.add_triggered("pose", std::chrono::milliseconds(150), [&] {
-      std::optional<rambo_features_t> f;
+      std::optional<ReadyFrame> rf;
       {
         std::lock_guard<std::mutex> lock(mutex);
         if (ready.empty()) return;
-        f = std::move(ready.front());
+        rf = std::move(ready.front());
         ready.pop_front();
         if (!ready.empty()) runtime.trigger("pose");  // one frame per job
       }
+      const rambo_features_t* f = &rf->features;
       rambo_pose_t out{};
       out.utime = f->utime;
       out.frame_index = f->frame_index;
@@ -209,15 +226,17 @@ int main(int argc, char** argv) {
             finite && it.reference_px.allFinite() && it.a_px.allFinite() && it.b_px.allFinite();
         triples.push_back(it);
       }
-      std::optional<arm::Joints> q;
+      const std::optional<arm::Joints>& q = rf->q;
+      const std::optional<FittedMotion>& motion_then = rf->motion;
       std::optional<Eigen::Isometry3d> prior_in_base;
       {
+        // `last` is this task's own (frames are taken in order).
         std::lock_guard<std::mutex> lock(mutex);
-        q = joints_at(f->utime);
         const double t_frame = static_cast<double>(f->utime) * 1e-6;
-        if (motion && prior_max_age_s > 0 && t_frame - motion->t_ref_s <= 5.0 * prior_max_age_s &&
-            t_frame >= motion->t_ref_s)
-          prior_in_base = motion->pose(t_frame);
+        if (motion_then && prior_max_age_s > 0 &&
+            t_frame - motion_then->t_ref_s <= 5.0 * prior_max_age_s &&
+            t_frame >= motion_then->t_ref_s)
+          prior_in_base = motion_then->pose(t_frame);
         else if (last && prior_max_age_s > 0 &&
                  static_cast<double>(f->utime - last->first) * 1e-6 <= prior_max_age_s)
           prior_in_base = last->second;
