@@ -1,6 +1,7 @@
 #include "common/config/manifest.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <regex>
 #include <set>
@@ -143,6 +144,20 @@ std::string manifest_lcm_url(const config::Manifest& m) {
   return "udpm://" + m.lcm().group() + ":" + std::to_string(m.lcm().port()) +
          "?ttl=" + std::to_string(m.lcm().ttl()) +
          "&recv_buf_size=" + std::to_string(m.lcm().recv_buf_size());
+}
+
+std::string lcm_url_with_receive_buffer(const std::string& url, long long bytes) {
+  static const std::string kKey = "recv_buf_size=";
+  const auto at = url.find(kKey);
+  if (at == std::string::npos) {
+    return url + (url.find('?') == std::string::npos ? "?" : "&") + kKey + std::to_string(bytes);
+  }
+  const auto begin = at + kKey.size();
+  const auto end = url.find('&', begin);
+  const long long now = std::atoll(url.substr(begin, end - begin).c_str());
+  if (now >= bytes) return url;
+  return url.substr(0, begin) + std::to_string(bytes) +
+         (end == std::string::npos ? "" : url.substr(end));
 }
 
 std::vector<std::string> manifest_hosts(const config::Manifest& m) {

@@ -20,6 +20,11 @@ config::Manifest parse_manifest(const std::string& text, const std::string& name
 // "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216".
 std::string manifest_lcm_url(const config::Manifest& manifest);
 
+// `url` with its receive buffer set to at least `bytes` (the recv_buf_size
+// option replaced or added): a recorder that must ride out a disk stall while
+// camera frames keep coming wants more than the processes do.
+std::string lcm_url_with_receive_buffer(const std::string& url, long long bytes);
+
 // Host names in manifest order.
 std::vector<std::string> manifest_hosts(const config::Manifest& manifest);
 

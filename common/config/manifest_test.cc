@@ -60,6 +60,20 @@ TEST(Manifest, CpuLatencyRequestIsMinusOneOrAnAmountOfMicroseconds) {
   EXPECT_NE(err.find("scheduler.cpu_latency_us"), std::string::npos) << err;
 }
 
+TEST(Manifest, ReceiveBufferIsRaisedNeverLowered) {
+  EXPECT_EQ(lcm_url_with_receive_buffer("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216",
+                                        33554432),
+            "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=33554432");
+  EXPECT_EQ(lcm_url_with_receive_buffer("udpm://239.255.76.67:7667?recv_buf_size=100&ttl=1", 200),
+            "udpm://239.255.76.67:7667?recv_buf_size=200&ttl=1");
+  EXPECT_EQ(lcm_url_with_receive_buffer("udpm://239.255.76.67:7667?recv_buf_size=500", 200),
+            "udpm://239.255.76.67:7667?recv_buf_size=500");
+  EXPECT_EQ(lcm_url_with_receive_buffer("udpm://239.255.76.67:7667", 200),
+            "udpm://239.255.76.67:7667?recv_buf_size=200");
+  EXPECT_EQ(lcm_url_with_receive_buffer("udpm://239.255.76.67:7667?ttl=0", 200),
+            "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=200");
+}
+
 TEST(Manifest, NoHostsMeansOneLocalHost) {
   const auto m = parse_manifest(R"pb(name: "x"
                                      process { name: "a" exec: "b" })pb",
