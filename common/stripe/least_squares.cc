@@ -1,74 +1,89 @@
 #include "common/stripe/least_squares.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Dense>
+#include <ceres/ceres.h>
 #include <Eigen/SVD>
 
 namespace ephor::stripe {
 
 namespace {
 
-Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
-                         const Eigen::VectorXd& x, Eigen::Index rows, double h) {
-  Eigen::MatrixXd j(rows, x.size());
-  for (Eigen::Index k = 0; k < x.size(); ++k) {
-    Eigen::VectorXd a = x, b = x;
-    a[k] += h;
-    b[k] -= h;
-    j.col(k) = (f(a) - f(b)) / (2.0 * h);
+using ResidualFunction = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
+
+// f as Ceres's dynamic numeric-diff functor (one parameter block). A wrong
+// residual count or a non-finite residual is an evaluation Ceres refuses
+// (the step is rejected), without Ceres's logged warning for the latter.
+class ResidualFunctor {
+ public:
+  ResidualFunctor(const ResidualFunction& f, Eigen::Index params, Eigen::Index residuals)
+      : f_(f), params_(params), residuals_(residuals) {}
+
+  bool operator()(double const* const* parameters, double* residuals) const {
+    const Eigen::VectorXd r = f_(Eigen::Map<const Eigen::VectorXd>(parameters[0], params_));
+    if (r.size() != residuals_ || !r.allFinite()) return false;
+    Eigen::Map<Eigen::VectorXd>(residuals, residuals_) = r;
+    return true;
   }
-  return j;
+
+ private:
+  const ResidualFunction& f_;
+  Eigen::Index params_, residuals_;
+};
+
+// Largest over smallest singular value of the problem's Jacobian at its
+// current parameters; infinite when it is singular or cannot be evaluated.
+double jacobian_condition(ceres::Problem& problem) {
+  ceres::CRSMatrix crs;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs))
+    return std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd j = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int row = 0; row < crs.num_rows; ++row)
+    for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k) j(row, crs.cols[k]) = crs.values[k];
+  const auto sv = Eigen::JacobiSVD<Eigen::MatrixXd>(j).singularValues();
+  return sv.size() > 0 && sv[sv.size() - 1] > 0.0 ? sv[0] / sv[sv.size() - 1]
+                                                  : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
 
-LeastSquaresResult solve_least_squares(
-    const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& x0,
-    const LeastSquaresOptions& options) {
+LeastSquaresResult solve_least_squares(const ResidualFunction& f, const Eigen::VectorXd& x0,
+                                       const LeastSquaresOptions& options) {
   LeastSquaresResult r;
   r.x = x0;
   r.residuals = f(r.x);
   r.cost = r.residuals.squaredNorm();
-  double lambda = 1e-3;
-  for (; r.iterations < options.max_iterations && !r.converged && std::isfinite(r.cost);
-       ++r.iterations) {
-    const Eigen::MatrixXd j = jacobian(f, r.x, r.residuals.size(), options.step);
-    const Eigen::MatrixXd a = j.transpose() * j;
-    const Eigen::VectorXd g = j.transpose() * r.residuals;
-    bool improved = false;
-    Eigen::VectorXd step;
-    while (lambda < 1e12) {
-      // Marquardt's scaling: damp each unknown by its own curvature.
-      Eigen::MatrixXd damped = a;
-      damped.diagonal() += lambda * a.diagonal().cwiseMax(1e-9);
-      step = damped.ldlt().solve(-g);
-      const Eigen::VectorXd trial = r.x + step;
-      const Eigen::VectorXd res = f(trial);
-      const double cost = res.squaredNorm();
-      if (cost < r.cost) {
-        r.converged = r.cost - cost < 1e-12 * std::max(1.0, cost);
-        r.x = trial;
-        r.residuals = res;
-        r.cost = cost;
-        lambda = std::max(1e-12, lambda / 10.0);
-        improved = true;
-        break;
-      }
-      lambda *= 10.0;
-    }
-    if (!improved || step.norm() < 1e-9) {
-      r.converged = true;
-      break;
-    }
+  if (!std::isfinite(r.cost) || r.x.size() == 0 || r.residuals.size() == 0) {
+    r.condition = std::numeric_limits<double>::infinity();
+    r.report = "not solved: no unknowns, no residuals or a non-finite cost at the start";
+    return r;
   }
-  const Eigen::MatrixXd j = jacobian(f, r.x, r.residuals.size(), options.step);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(j);
-  const auto sv = svd.singularValues();
-  r.condition = sv.size() > 0 && sv[sv.size() - 1] > 0.0 ? sv[0] / sv[sv.size() - 1]
-                                                         : std::numeric_limits<double>::infinity();
+  const auto cost_function = new ceres::DynamicNumericDiffCostFunction<ResidualFunctor>(
+      new ResidualFunctor(f, r.x.size(), r.residuals.size()));
+  cost_function->AddParameterBlock(static_cast<int>(r.x.size()));
+  cost_function->SetNumResiduals(static_cast<int>(r.residuals.size()));
+  ceres::Problem problem;  // owns the cost function
+  problem.AddResidualBlock(cost_function, nullptr, r.x.data());
+
+  ceres::Solver::Options o;
+  o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o.linear_solver_type = ceres::DENSE_QR;
+  o.max_num_iterations = options.max_iterations;
+  o.function_tolerance = options.function_tolerance;
+  o.parameter_tolerance = options.parameter_tolerance;
+  o.gradient_tolerance = options.gradient_tolerance;
+  o.num_threads = 1;  // one residual block: nothing to share out
+  o.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(o, &problem, &summary);
+
+  r.residuals = f(r.x);
+  r.cost = r.residuals.squaredNorm();
+  r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  r.condition = jacobian_condition(problem);
+  r.report = summary.BriefReport();
   return r;
 }
 

@@ -27,8 +27,9 @@ TEST(LeastSquaresTest, FitsAnExponentialExactly) {
   EXPECT_TRUE(std::isfinite(r.condition));
 }
 
-// Two unknowns only their sum is seen in: the solver still ends (the
-// damping keeps the step finite) and says the problem is singular.
+// Two unknowns only their sum is seen in: the solver still ends
+// (Levenberg-Marquardt's damping keeps the step finite) and says the
+// problem is singular.
 TEST(LeastSquaresTest, RedundantUnknownsAreReportedByTheCondition) {
   auto f = [](const Eigen::VectorXd& p) {
     Eigen::VectorXd r(3);
@@ -39,6 +40,32 @@ TEST(LeastSquaresTest, RedundantUnknownsAreReportedByTheCondition) {
   EXPECT_NEAR(r.x[0] + r.x[1], 1.0, 1e-6);
   EXPECT_NEAR(r.x[2], 3.0, 1e-6);
   EXPECT_GT(r.condition, 1e6);
+}
+
+// The calibrations' "fit diverged" check: a non-finite cost at the start
+// comes back as it is, with x0.
+TEST(LeastSquaresTest, ANonFiniteStartIsReturnedAsIs) {
+  auto f = [](const Eigen::VectorXd& p) {
+    Eigen::VectorXd r(2);
+    r << std::log(p[0]), p[0] - 1.0;
+    return r;
+  };
+  const LeastSquaresResult r = solve_least_squares(f, Eigen::VectorXd::Constant(1, -1.0));
+  EXPECT_FALSE(std::isfinite(r.cost));
+  EXPECT_EQ(r.x[0], -1.0);
+  EXPECT_FALSE(r.converged);
+}
+
+// Steps into the region where f is not finite (x < 0) are refused, not taken.
+TEST(LeastSquaresTest, StepsToANonFiniteCostAreRefused) {
+  auto f = [](const Eigen::VectorXd& p) {
+    Eigen::VectorXd r(1);
+    r << std::sqrt(p[0]) - 0.1;
+    return r;
+  };
+  const LeastSquaresResult r = solve_least_squares(f, Eigen::VectorXd::Constant(1, 4.0));
+  EXPECT_NEAR(r.x[0], 0.01, 1e-8);
+  EXPECT_LT(r.cost, 1e-16);
 }
 
 }  // namespace
