@@ -60,7 +60,11 @@ int main(int argc, char** argv) {
   app.add_option("--features-channel", features_channel,
                  "image triples from: RAMBO_FEATURES (the features process, from the frames) or "
                  "RAMBO_FEATURES_ORACLE (the simulator's projected vertices)");
-  int peer_every = 0;
+  int peer_every = 0, max_behind = 5;
+  app.add_option("--max-behind", max_behind,
+                 "frames waiting for the pose task beyond this many are dropped, oldest first "
+                 "(default 5: 1 s at 5 Hz; a replay that must give every pose back sets it high)")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--peer-every", peer_every,
                  "also run the solvePnPRansac peer on every Nth frame, on its own thread at "
                  "normal priority (RAMBO_POSE_PEER; 0 = never)")
@@ -100,8 +104,7 @@ int main(int argc, char** argv) {
     };
     std::deque<ReadyFrame> ready;
     std::optional<rambo_features_t> waiting;
-    int64_t dropped = 0;  // frames not estimated: more than kMaxReady behind
-    constexpr std::size_t kMaxReady = 5;
+    int64_t dropped = 0;  // frames not estimated: more than --max-behind behind
     std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
     std::optional<FittedMotion> motion;                         // the predictor's newest fit
     std::atomic<int64_t> found{0}, not_found{0}, bad{0};
@@ -192,7 +195,7 @@ int main(int argc, char** argv) {
           make_ready(m);
         else
           waiting = m;
-        while (ready.size() > kMaxReady) {
+        while (ready.size() > static_cast<std::size_t>(max_behind)) {
           ready.pop_front();
           ++dropped;
         }
