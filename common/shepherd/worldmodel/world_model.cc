@@ -25,6 +25,7 @@ WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConf
       !(c.obscured_gate_max_px >= c.obscured_gate_px) || !(c.merge_area_ratio > 1.0) ||
       !finite_positive(c.max_obscured_s) || !finite_nonneg(c.report_dead_s) ||
       !finite_nonneg(c.dead_reckon_max_s) || !finite_nonneg(c.hidden_escape_margin_mm) ||
+      !finite_nonneg(c.visible_escape_margin_mm) ||
       !(c.partial_area_ratio >= 0.0 && c.partial_area_ratio < 1.0) ||
       !(c.reacquire_area_ratio >= c.partial_area_ratio && c.reacquire_area_ratio < 1.0) ||
       !std::isfinite(c.mark_height_mm) || !finite_nonneg(c.mark_diameter_mm))
@@ -205,7 +206,9 @@ void WorldModel::stage1_visible(double dt_s, const std::vector<Eigen::Vector2d>&
       continue;
     }
     see(t, blobs[b], areas[b], false);
-    if (!inside_field(t.filter.position())) kill(t, "left the field");  // escaped
+    if (!inside_field(t.filter.position(), config_.visible_escape_margin_mm)) {
+      kill(t, "left the field");  // escaped
+    }
   }
 }
 
@@ -244,7 +247,9 @@ void WorldModel::stage2_obscured(const std::vector<Eigen::Vector2d>& blobs,
     }
     ++counters_.reacquired;
     see(t, blobs[m.blob], areas[m.blob], true);
-    if (!inside_field(t.filter.position())) kill(t, "re-acquired outside the field");
+    if (!inside_field(t.filter.position(), config_.visible_escape_margin_mm)) {
+      kill(t, "re-acquired outside the field");
+    }
   }
 }
 

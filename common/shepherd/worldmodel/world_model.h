@@ -103,8 +103,14 @@ struct WorldModelConfig {
   // A hidden object is reckoned to have left the field only this far beyond
   // its edge, mm: a sheep hidden (by a cloud, the arm) as it nears the edge
   // is often turned there, and reappears inside; killing it at the edge gave
-  // it a new id (issue 13, clouds). A visible one leaves at the edge.
+  // it a new id (issue 13, clouds).
   double hidden_escape_margin_mm = 60.0;
+  // A visible object has left the field once its filtered mark is this far
+  // beyond the edge, mm: a sheep walking along the edge, or one that has
+  // just come in across it, has a mark within a few mm of it on either side
+  // (position noise, the filter's lag at a turn); killing it at 0 mm gave it
+  // a new id a frame later (issue 13, a 10-minute run with clouds).
+  double visible_escape_margin_mm = 10.0;
   // A blob this many times an object's usual area, on which two objects'
   // predictions fall, is their two marks merged.
   double merge_area_ratio = 1.4;

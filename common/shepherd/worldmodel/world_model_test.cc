@@ -294,6 +294,41 @@ TEST(WorldModelTest, SheepLeavingTheFieldIsMarkedDeadAndBlobsOutsideMakeNoObject
   EXPECT_TRUE(wm.objects().empty()) << "dead objects are forgotten after report_dead_s";
 }
 
+// Issue 13 (a 10-minute run with clouds): a sheep that walks along the
+// field's edge, its mark within a couple of mm of it on either side, keeps
+// its id; with no margin for the visible (0 mm) it is killed as it touches
+// the edge and its next blob inside becomes a new object.
+TEST(WorldModelTest, SheepWalkingAlongTheEdgeKeepsItsId) {
+  const auto cal = calibration::FieldCalibration::from_camera({}, {});
+  const WorldModelConfig defaults;
+  // The mark's image position 0.2 mm inside the left edge (x = 0.2 mm), moving
+  // along it in y at the paper's 8 mm/s; with 0.2 px noise it crosses.
+  // The world model's own map at the mark's height (affine: px -> mm), inverted.
+  const auto px_at_mm = [&](double x_mm, double y_mm) {
+    const calibration::AffineMap m = cal.matrix_at_height(defaults.mark_height_mm);
+    const Eigen::Matrix2d a = m.leftCols<2>();
+    return Eigen::Vector2d(a.inverse() * (Eigen::Vector2d(x_mm, y_mm) - m.col(2)));
+  };
+  const Eigen::Vector2d start = px_at_mm(0.2, 300.0);
+  const Eigen::Vector2d later = px_at_mm(0.2, 380.0);  // 10 s on
+  const Sheep along{start, (later - start) / 10.0};
+  for (double margin : {10.0, 0.0}) {
+    WorldModelConfig c;
+    c.visible_escape_margin_mm = margin;
+    auto wm = make_model(c);
+    std::mt19937 rng(11);
+    feed(wm, {along}, 0, 300, rng);
+    if (margin > 0.0) {
+      ASSERT_TRUE(by_id(wm, 1));
+      EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kVisible);
+      EXPECT_EQ(wm.counters().objects_created, 1) << "a new id for the same sheep";
+    } else {
+      EXPECT_GT(wm.counters().objects_created, 1) << "the 0 mm margin should lose it (the test "
+                                                     "checks that it can fail)";
+    }
+  }
+}
+
 // Issue 13, clouds: a slow sheep hidden as it nears the edge is reckoned a
 // little past it, but it was turned there and comes back: same id. One
 // reckoned well past the edge has left (and the log says why it died).
