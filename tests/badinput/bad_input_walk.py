@@ -225,6 +225,7 @@ def ephor_cases(src, tmp):
         ("unknown flag", [e, "--no-such-flag"], ["--no-such-flag"]),
         ("setup: unknown flag", [e, "setup", "--no-such-flag"], ["--no-such-flag"]),
         ("build: unknown flag", [e, "build", "--no-such-flag"], ["--no-such-flag"]),
+        ("sanitize: unknown flag", [e, "sanitize", "--no-such-flag"], ["--no-such-flag"]),
         ("demo: unknown system", [e, "demo", "no-such-system"], ["no-such-system"]),
         ("run: no manifest", [e, "run"], ["MANIFEST"]),
         ("run: missing file", [e, "run", missing], [missing]),
