@@ -74,6 +74,26 @@ TEST(Manifest, ReceiveBufferIsRaisedNeverLowered) {
             "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=200");
 }
 
+// A check about a whole repeated field ("process", no index) names the file
+// and the field, as a ConfigError, not protobuf's own index complaint.
+TEST(TextProtoTest, ARepeatedFieldNamedWithoutAnIndexIsAConfigError) {
+  config::Manifest m;
+  const auto src =
+      TextProto::from_string("name: \"x\"\nprocess { name: \"a\" exec: \"b\" }\n", "x.pbtxt", &m);
+  try {
+    src->fail("process", "needs two");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.pbtxt: process: needs two");
+  }
+  try {
+    src->fail("name[3]", "an index on a single field is ignored");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.pbtxt:1: name[3]"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Manifest, NoHostsMeansOneLocalHost) {
   const auto m = parse_manifest(R"pb(name: "x"
                                      process { name: "a" exec: "b" })pb",

@@ -91,10 +91,15 @@ void TextProto::fail(const std::string& field_path, const std::string& problem) 
     if (tree == nullptr || descriptor == nullptr) break;
     const FieldDescriptor* field = descriptor->FindFieldByName(step.field);
     if (field == nullptr) break;
-    const auto loc = tree->GetLocation(field, step.index);
+    // A repeated field named without an index ("vertex" for the whole list)
+    // has no one line: keep its parent's (protobuf's index check fires on -1
+    // there), and an index on a single field means nothing.
+    if (field->is_repeated() && step.index < 0) break;
+    const int index = field->is_repeated() ? step.index : -1;
+    const auto loc = tree->GetLocation(field, index);
     if (loc.line >= 0) line = loc.line;
     if (field->type() != FieldDescriptor::TYPE_MESSAGE) break;
-    tree = tree->GetTreeForNested(field, step.index);
+    tree = tree->GetTreeForNested(field, index);
     descriptor = field->message_type();
   }
   const std::string where = line >= 0 ? path_ + ":" + std::to_string(line + 1) : path_;
