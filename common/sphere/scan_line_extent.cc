@@ -432,11 +432,18 @@ void choose_signs(const ScanLineExtentConfig& cfg, std::span<LineExtent> pass) {
 
 std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::string* why) const {
   std::vector<LineExtent> out;
+  line_extents_into(window, out, why);
+  return out;
+}
+
+void ScanLineExtent::line_extents_into(const Window& window, std::vector<LineExtent>& out,
+                                       std::string* why) const {
+  out.clear();
   out.reserve(window.lines.size());
   ForegroundGate gate(config_.gate);
   if (gate.learn(window) == 0) {
     if (why) *why = "no returns closer than the background threshold";
-    return out;
+    return;
   }
   const WindowSlope slopes = config_.window_slope ? window_slope(window) : WindowSlope{};
   const LineSolver solver(config_, azimuth_step(window), config_.window_slope ? &slopes : nullptr);
@@ -484,19 +491,23 @@ std::vector<LineExtent> ScanLineExtent::line_extents(const Window& window, std::
              " cut by the frame or window edge, " + std::to_string(rejected.too_few) +
              " with fewer than " + std::to_string(config_.min_points_per_line) + " points)";
     }
-    return out;
+    return;
   }
   pass_start.push_back(out.size());
   for (size_t k = 0; k + 1 < pass_start.size(); ++k) {
     const std::span<LineExtent> pass(out.data() + pass_start[k], pass_start[k + 1] - pass_start[k]);
     choose_signs(config_, pass);
   }
-  return out;
 }
 
 Estimate ScanLineExtent::locate(const Window& window) const {
   std::string why;
-  const std::vector<LineExtent> lines = line_extents(window, &why);
+  // Kept from call to call on each thread: a locator calls this every half
+  // second, and a fresh 100-150 kB vector each time came from new pages (page
+  // faults: the slowest trials in the bench).
+  thread_local std::vector<LineExtent> lines;
+  thread_local std::vector<double> t, x, w;
+  line_extents_into(window, lines, &why);
   int points = 0;
   for (const LineExtent& e : lines) points += e.points;
   if (static_cast<int>(lines.size()) < config_.min_lines) {
@@ -505,7 +516,7 @@ Estimate ScanLineExtent::locate(const Window& window) const {
                               std::to_string(config_.min_lines) + ")",
                           points, static_cast<int>(lines.size()));
   }
-  std::vector<double> t(lines.size());
+  t.resize(lines.size());
   double t_mean = 0.0;
   for (size_t j = 0; j < lines.size(); ++j) {
     t[j] = lines[j].t_s;
@@ -517,7 +528,8 @@ Estimate ScanLineExtent::locate(const Window& window) const {
   est.t_s = t_mean;
   est.points = points;
   est.lines = static_cast<int>(lines.size());
-  std::vector<double> x(lines.size()), w(lines.size());
+  x.resize(lines.size());
+  w.resize(lines.size());
   for (int axis = 0; axis < 3; ++axis) {
     for (size_t j = 0; j < lines.size(); ++j) {
       x[j] = lines[j].position_m(axis);

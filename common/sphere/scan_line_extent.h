@@ -108,6 +108,10 @@ class ScanLineExtent {
   const ScanLineExtentConfig& config() const { return config_; }
 
  private:
+  // line_extents() into `out` (cleared first; its capacity is reused).
+  void line_extents_into(const Window& window, std::vector<LineExtent>& out,
+                         std::string* why) const;
+
   ScanLineExtentConfig config_;
 };
 
