@@ -8,6 +8,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <lcm/lcm-cpp.hpp>
+
 #include "common/time/clock.h"
 
 namespace ephor::testing {
@@ -19,6 +21,35 @@ bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds tim
     if (mono_ns() >= deadline) return pred();
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+}
+
+ChannelGap longest_gap_in_log(const std::string& log_path, const std::string& channel) {
+  ChannelGap g;
+  lcm::LogFile log(log_path, "r");
+  if (!log.good()) throw std::runtime_error("cannot read the LCM log " + log_path);
+  int64_t first = -1, last = -1;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (first < 0) first = e->timestamp;
+    if (e->channel != channel) continue;
+    const double gap_s = static_cast<double>(e->timestamp - last) * 1e-6;
+    if (last >= 0 && gap_s > g.longest_s) {
+      g.longest_s = gap_s;
+      g.at_s = static_cast<double>(last - first) * 1e-6;
+    }
+    last = e->timestamp;
+    ++g.count;
+  }
+  return g;
+}
+
+int launched_pid(const Processes& p, const std::string& launcher, const std::string& process) {
+  const std::string key = "started " + process + " (pid ";
+  int pid = 0;
+  for (const std::string& line : p.lines(launcher)) {
+    const auto at = line.find(key);
+    if (at != std::string::npos) pid = std::atoi(line.c_str() + at + key.size());
+  }
+  return pid;
 }
 
 std::string bin(const std::string& name) {

@@ -27,6 +27,21 @@ std::string source_path(const std::string& relative);
 // Writes `text` to a new file in a private temporary directory; returns its path.
 std::string write_temp_file(const std::string& name, const std::string& text);
 
+// Messages of one channel in a recorded LCM log: how many, the longest time
+// between two consecutive ones (s) and when it began (s after the log's first
+// event of any channel).
+struct ChannelGap {
+  int count = 0;
+  double longest_s = 0.0;
+  double at_s = 0.0;
+};
+ChannelGap longest_gap_in_log(const std::string& log_path, const std::string& channel);
+
+class Processes;
+// The pid ephor-launch (started as `launcher`) last reported for one of its
+// processes ("started NAME (pid N)"): a restart gives a new one. 0 if none.
+int launched_pid(const Processes& p, const std::string& launcher, const std::string& process);
+
 // Child processes with their output kept for assertions. Stops them all on
 // destruction.
 class Processes {

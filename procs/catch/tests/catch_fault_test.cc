@@ -32,7 +32,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
 
 #include "common/catch/catch_channels.h"
@@ -51,44 +50,6 @@ using std::chrono::seconds;
 
 // deploy/catch.pbtxt's bus (this test has its network namespace to itself).
 constexpr const char* kUrl = "udpm://239.255.76.67:7668?ttl=0&recv_buf_size=16777216";
-
-// The pid the launcher last reported for `name` ("started NAME (pid N)"), 0 if none.
-int launched_pid(const Processes& p, const std::string& name) {
-  const std::string key = "started " + name + " (pid ";
-  int pid = 0;
-  for (const std::string& line : p.lines("launch")) {
-    const auto at = line.find(key);
-    if (at != std::string::npos) pid = std::atoi(line.c_str() + at + key.size());
-  }
-  return pid;
-}
-
-// Messages of `channel` in a log: how many, the longest time between two
-// consecutive ones and when it began (s from the log's first event).
-struct Gap {
-  int count = 0;
-  double longest_s = 0.0, at_s = 0.0;
-};
-Gap longest_gap(const std::string& path, const std::string& channel) {
-  lcm::LogFile log(path, "r");
-  EXPECT_TRUE(log.good()) << path;
-  Gap g;
-  int64_t first = -1, last = -1;
-  while (log.good()) {
-    const lcm::LogEvent* e = log.readNextEvent();
-    if (e == nullptr) break;
-    if (first < 0) first = e->timestamp;
-    if (e->channel != channel) continue;
-    const double gap_s = static_cast<double>(e->timestamp - last) * 1e-6;
-    if (last >= 0 && gap_s > g.longest_s) {
-      g.longest_s = gap_s;
-      g.at_s = static_cast<double>(last - first) * 1e-6;
-    }
-    last = e->timestamp;
-    ++g.count;
-  }
-  return g;
-}
 
 TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
   // The log in memory: the camera's 18 MB/s through lcm-logger onto this
@@ -127,14 +88,14 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
 
   std::map<std::string, double> restart_s_of;
   for (const std::string name : {"monitor", "vision", "worldmodel", "prim", "comm", "arm"}) {
-    const int victim = launched_pid(p, name);
+    const int victim = launched_pid(p, "launch", name);
     ASSERT_GT(victim, 0) << "no pid for " << name;
     const auto before = heard();
     const int64_t t0 = mono_ns();
     ASSERT_EQ(kill(victim, SIGKILL), 0) << name;
     ASSERT_TRUE(wait_until(
         [&] {
-          const int pid = launched_pid(p, name);
+          const int pid = launched_pid(p, "launch", name);
           return pid > 0 && pid != victim;
         },
         seconds(5)))
@@ -209,7 +170,7 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
       {catching::channels::kWorld, slowest_s + 2.0},
       {channels::kArmState, restart_s_of["arm"] + 1.0}};
   for (const auto& [channel, bound_s] : bounds) {
-    const Gap g = longest_gap(log_path, channel);
+    const ChannelGap g = longest_gap_in_log(log_path, channel);
     std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",
                  g.count, channel, g.longest_s, g.at_s, bound_s);
     EXPECT_GT(g.count, 800) << channel;

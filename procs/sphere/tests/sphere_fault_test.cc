@@ -30,7 +30,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <lcm/lcm-cpp.hpp>
 
 #include "common/lcm/bus.h"
 #include "common/sphere/sphere_channels.h"
@@ -73,43 +72,10 @@ void listen(Bus& bus, Heard& heard) {
   bus.start();
 }
 
-// The pid the launcher last reported for `name` ("started NAME (pid N)"), 0 if none.
-int launched_pid(const Processes& p, const std::string& name) {
-  const std::string key = "started " + name + " (pid ";
-  int pid = 0;
-  for (const std::string& line : p.lines("launch")) {
-    const auto at = line.find(key);
-    if (at != std::string::npos) pid = std::atoi(line.c_str() + at + key.size());
-  }
-  return pid;
-}
-
 bool run_ended(const Processes& p) {
   for (const auto& e : p.exits())
     if (e.name == "launch") return true;
   return false;
-}
-
-// Seconds between consecutive messages of `channel` in a log: the longest
-// gap after the first message, and how many there were.
-struct ChannelGaps {
-  int count = 0;
-  double longest_s = 0.0;
-};
-ChannelGaps gaps_in_log(const std::string& path, const std::string& channel) {
-  ChannelGaps g;
-  lcm::LogFile log(path, "r");
-  EXPECT_TRUE(log.good()) << path;
-  if (!log.good()) return g;
-  int64_t last = -1;
-  while (const lcm::LogEvent* e = log.readNextEvent()) {
-    if (e->channel != channel) continue;
-    if (last >= 0)
-      g.longest_s = std::max(g.longest_s, static_cast<double>(e->timestamp - last) * 1e-6);
-    last = e->timestamp;
-    ++g.count;
-  }
-  return g;
 }
 
 std::string temp_dir(const std::string& what) {
@@ -144,14 +110,14 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
   // Kill each in turn; each must be running again (a new pid) within a second
   // and its output must come back.
   for (const std::string name : {"locator", "guidance", "ranger"}) {
-    const int victim = launched_pid(p, name);
+    const int victim = launched_pid(p, "launch", name);
     ASSERT_GT(victim, 0) << "no pid for " << name;
     const int est_before = estimates(), cmd_before = commands();
     const int64_t t0 = mono_ns();
     ASSERT_EQ(kill(victim, SIGKILL), 0) << name;
     ASSERT_TRUE(wait_until(
         [&] {
-          const int pid = launched_pid(p, name);
+          const int pid = launched_pid(p, "launch", name);
           return pid > 0 && pid != victim;
         },
         seconds(5)))
@@ -187,7 +153,7 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
   // with a second of slack for the new process to register and find its
   // first complete window.
   for (const char* channel : {sphere::channels::kEstimate, sphere::channels::kGuidance}) {
-    const ChannelGaps g = gaps_in_log(log_path, channel);
+    const ChannelGap g = longest_gap_in_log(log_path, channel);
     std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s\n", g.count, channel,
                  g.longest_s);
     EXPECT_GE(g.count, 40) << channel;
