@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
           spdlog::warn(
               "SPHERE_SCAN_LINE from {}: scan clock and line counter went back (line {} at {:.3f} "
               "s): the ranger restarted; assembling its windows afresh",
-              m.header.sender, m.line, m.num_pulses > 0 ? m.t_s.front() : 0.0);
+              m.header.sender, m.line, m.t_s.empty() ? 0.0 : m.t_s.front());
         }
         for (AssembledWindow& w : assembler.take_complete()) {
           ready.push_back(std::move(w));
