@@ -118,7 +118,10 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
     open = reachable;
     // Section 10 over the open diodes; cost: the straight-line heuristic.
     const Eigen::Vector3d tool_now = arm_.forward(current_q).translation();
-    auto goal_pos = [&](int k, double t) {
+    // Returns a Vector3d, not Eigen's translation() block: that would point
+    // into the pose product, a temporary gone when the lambda returns
+    // (AddressSanitizer: stack-use-after-scope).
+    auto goal_pos = [&](int k, double t) -> Eigen::Vector3d {
       return (sampled.pose(t) * cell_.goal_in_target(open[static_cast<std::size_t>(k)]))
           .translation();
     };
