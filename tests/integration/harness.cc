@@ -130,6 +130,12 @@ std::vector<launcher::ExitInfo> Processes::exits() const {
   return exits_;
 }
 
+bool Processes::exited(const std::string& name) const {
+  for (const auto& e : exits())
+    if (e.name == name) return true;
+  return false;
+}
+
 void Processes::stop_all() {
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -56,6 +56,8 @@ class Processes {
   bool has_line(const std::string& name, const std::string& text) const;
   // Exits observed so far.
   std::vector<launcher::ExitInfo> exits() const;
+  // True once the process started as `name` has exited.
+  bool exited(const std::string& name) const;
   // Sends `sig` to the process started as `name`.
   void signal(const std::string& name, int sig);
   void stop_all();

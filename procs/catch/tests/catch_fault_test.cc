@@ -119,13 +119,7 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
                  static_cast<double>(mono_ns() - t0) * 1e-9);
   }
 
-  ASSERT_TRUE(wait_until(
-      [&] {
-        for (const auto& e : p.exits())
-          if (e.name == "launch") return true;
-        return false;
-      },
-      seconds(150)))
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(150)))
       << "the run did not end";
   bus.stop();
   for (const auto& e : p.exits()) {

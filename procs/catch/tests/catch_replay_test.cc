@@ -43,12 +43,6 @@ std::vector<uint8_t> what_not_when(catch_world_t m) {
   return bytes;
 }
 
-bool exited(const Processes& p, const std::string& name) {
-  for (const auto& e : p.exits())
-    if (e.name == name) return true;
-  return false;
-}
-
 TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
   const fs::path dir =
       fs::temp_directory_path() / ("ephor-catch-replay-" + std::to_string(getpid()));
@@ -61,7 +55,7 @@ TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
     p.start("launch", bin("ephor-launch"),
             {source_path("deploy/catch.pbtxt"), "--headless", "--duration", "40", "--balls", "1",
              "--seed", "2", "--record", log_path});
-    ASSERT_TRUE(wait_until([&] { return exited(p, "launch"); }, seconds(60)));
+    ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(60)));
     ASSERT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
   }
   std::map<int64_t, catch_world_t> live;
@@ -103,7 +97,7 @@ TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
             {"--lcm-url", kUrl, "--regexp", "CATCH_BOARD_POSE|CATCH_SURVEY|CATCH_PEGS|CATCH_BALL",
              log_path},
             env);
-    EXPECT_TRUE(wait_until([&] { return exited(p, "player"); }, seconds(60)));
+    EXPECT_TRUE(wait_until([&] { return p.exited("player"); }, seconds(60)));
     const auto all_back = [&] {
       std::lock_guard<std::mutex> lock(mutex);
       return replayed.size() >= live.size();

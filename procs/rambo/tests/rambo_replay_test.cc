@@ -47,12 +47,6 @@ std::vector<uint8_t> what_not_when(rambo_pose_t m) {
   return bytes;
 }
 
-bool exited(const Processes& p, const std::string& name) {
-  for (const auto& e : p.exits())
-    if (e.name == name) return true;
-  return false;
-}
-
 // The log's pose inputs through a fresh pose process with `extra` flags; its
 // poses by capture utime.
 // `expect` poses are waited for (5 s after the player ends); with `strict`,
@@ -84,7 +78,7 @@ std::map<int64_t, rambo_pose_t> replay(const std::string& log_path,
           {"--lcm-url", kUrl, "--regexp", "^(RAMBO_FEATURES_ORACLE|ARM_STATE|RAMBO_PREDICTION)$",
            log_path},
           env);
-  EXPECT_TRUE(wait_until([&] { return exited(p, "player"); }, seconds(60)));
+  EXPECT_TRUE(wait_until([&] { return p.exited("player"); }, seconds(60)));
   const bool all_back = wait_until(
       [&] {
         std::lock_guard<std::mutex> lock(mutex);
@@ -142,7 +136,7 @@ TEST(RamboReplay, RecordedPoseInputsReplayToByteIdenticalPoses) {
     p.start("launch", bin("ephor-launch"),
             {source_path("deploy/rambo.pbtxt"), "--headless", "--seed", "2", "--max_s", "20",
              "--record", log_path});
-    ASSERT_TRUE(wait_until([&] { return exited(p, "launch"); }, seconds(60)));
+    ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(60)));
     ASSERT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
     live_pose_dropped_none = p.has_line("launch", " bad messages, 0 frames dropped behind");
   }

@@ -72,12 +72,6 @@ void listen(Bus& bus, Heard& heard) {
   bus.start();
 }
 
-bool run_ended(const Processes& p) {
-  for (const auto& e : p.exits())
-    if (e.name == "launch") return true;
-  return false;
-}
-
 std::string temp_dir(const std::string& what) {
   const fs::path dir =
       fs::temp_directory_path() / ("ephor-sphere-fault-" + what + "-" + std::to_string(getpid()));
@@ -133,7 +127,8 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
                  name.c_str(), restart_s, flowing_s);
   }
 
-  ASSERT_TRUE(wait_until([&] { return run_ended(p); }, seconds(150))) << "the run did not end";
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(150)))
+      << "the run did not end";
   bus.stop();
   for (const auto& e : p.exits()) {
     if (e.name == "launch") {
@@ -177,7 +172,8 @@ TEST(SphereFaults, FivePercentPacketLossStillLocatesAtTwoHertzAndCaptures) {
           {source_path("deploy/sphere.pbtxt"), "--headless", "--duration", "100", "--start_m", "5",
            "--seed", "4", "--max_s", "90"},
           {{"LCM_DEFAULT_URL", kUrl}});
-  ASSERT_TRUE(wait_until([&] { return run_ended(p); }, seconds(120))) << "the run did not end";
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(120)))
+      << "the run did not end";
   bus.stop();
   std::system("iptables -D INPUT -i lo -m statistic --mode random --probability 0.05 -j DROP");
   std::lock_guard<std::mutex> lock(heard.mutex);
