@@ -1,6 +1,8 @@
 #include "common/display/display_server.h"
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -154,6 +156,23 @@ void DisplayServer::add_routes() {
       return;
     }
     res.set_content(reinterpret_cast<const char*>(a->data), a->size, a->content_type);
+  });
+
+  // Pages with a 3-D view (stripe's cloud, RAMBO's target) load three.js from Debian's libjs-three
+  // (tools/ephor installs it), read once on the first request rather than embedded in every binary.
+  svr.Get("/lib/three.min.js", [](const httplib::Request&, httplib::Response& res) {
+    static const std::string kThreeJs = [] {
+      std::ifstream in("/usr/share/javascript/three/three.min.js", std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      return text.str();
+    }();
+    if (kThreeJs.empty()) {
+      res.status = 404;
+      res.set_content("three.js not installed: apt-get install libjs-three", "text/plain");
+      return;
+    }
+    res.set_content(kThreeJs, "application/javascript");
   });
 
   svr.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
