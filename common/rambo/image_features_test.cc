@@ -52,10 +52,18 @@ TEST(ImageFeatures, RenderedTargetGivesCornersTriplesAndThePose) {
                f.corners_px.size(), on_vertex, f.edges.size(), f.triples.size(), truth.size());
   EXPECT_GE(on_vertex, 5);
   EXPECT_GE(f.triples.size(), 4u) << f.reason;
+  // The corners found fit one face: the pose with the prior's support (the
+  // last pose, 5 mm and 2 deg off), "ambiguous view" without.
   const TrianglePoseEstimator estimator(cell.model, cell.camera, {});
-  const TrianglePoseResult r = estimator.estimate(f.triples);
+  Eigen::Isometry3d prior = in_camera;
+  prior.translation() += Eigen::Vector3d(3, -4, 0);
+  prior.linear() = prior.linear() * Eigen::AngleAxisd(0.035, Eigen::Vector3d::UnitY());
+  const TrianglePoseResult r = estimator.estimate(f.triples, &prior);
   ASSERT_TRUE(r.found) << r.reason;
   EXPECT_LT((r.target_in_camera.translation() - in_camera.translation()).norm(), 10.0);
+  const TrianglePoseResult alone = estimator.estimate(f.triples);
+  EXPECT_TRUE(alone.found || alone.reason.find("ambiguous view") != std::string::npos)
+      << alone.reason;
   // A blank frame: no triples, with the reason.
   const ImageFeatures none = extract_image_features(cv::Mat(480, 640, CV_8UC1, cv::Scalar(25)));
   EXPECT_TRUE(none.triples.empty());

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -347,6 +350,9 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
                        points[static_cast<std::size_t>(i)].y());
       }
       r.correspondences = static_cast<int>(o.size());
+      r.matched_vertices.clear();
+      for (int v = 0; v < nv; ++v)
+        if (point_of_vertex[static_cast<std::size_t>(v)] >= 0) r.matched_vertices.push_back(v);
       if (o.size() < 4) break;
       cv::Mat rm(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
       for (int i = 0; i < 3; ++i) {
@@ -369,22 +375,83 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
     }
     r.target_in_camera = pose;
   };
-  TrianglePoseResult best = res;
-  bool have = false;
+  // The candidates, refined. One stands alone when enough image points fit
+  // it, their vertices span 3-D and no other candidate fits as many about
+  // as well; else it needs a prior it agrees with (see the header).
+  const auto better = [](const TrianglePoseResult& a, const TrianglePoseResult& b) {
+    return a.correspondences > b.correspondences || (a.correspondences == b.correspondences &&
+                                                     a.rms_reprojection_px < b.rms_reprojection_px);
+  };
+  std::vector<TrianglePoseResult> cands;
   for (const auto& sd : seeds) {
     TrianglePoseResult r = res;
     r.found = true;
     r.cluster_size = sd.first;
     evaluate(sd.second, r);
     if (!options_.refine) return r;  // the largest cluster, as the paper
-    if (!have || r.correspondences > best.correspondences ||
-        (r.correspondences == best.correspondences &&
-         r.rms_reprojection_px < best.rms_reprojection_px)) {
-      best = r;
-      have = true;
+    cands.push_back(std::move(r));
+  }
+  std::sort(cands.begin(), cands.end(), better);
+  // Why a candidate cannot stand alone ("" when it can).
+  const auto weakness = [&](std::size_t i) -> std::string {
+    const TrianglePoseResult& r = cands[i];
+    if (r.correspondences < options_.min_correspondences_alone)
+      return std::to_string(r.correspondences) + " image points fit it";
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int v : r.matched_vertices) mean += verts[static_cast<std::size_t>(v)];
+    mean /= static_cast<double>(r.matched_vertices.size());
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (int v : r.matched_vertices) {
+      const Eigen::Vector3d d = verts[static_cast<std::size_t>(v)] - mean;
+      scatter += d * d.transpose();
+    }
+    const Eigen::Vector3d ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvalues();
+    const double thickness_mm =
+        std::sqrt(std::max(0.0, ev[0]) / static_cast<double>(r.matched_vertices.size()));
+    if (thickness_mm < 0.02 * model_.bounding_radius_mm())
+      return "its " + std::to_string(r.correspondences) + " image points are one face";
+    for (std::size_t j = 0; j < cands.size(); ++j) {
+      const TrianglePoseResult& o = cands[j];
+      if (j == i || o.correspondences < r.correspondences) continue;
+      if (o.rms_reprojection_px > 1.5 * r.rms_reprojection_px + 0.5) continue;
+      const double mm = (o.target_in_camera * centre - r.target_in_camera * centre).norm();
+      const double rad =
+          Eigen::AngleAxisd(o.target_in_camera.linear().transpose() * r.target_in_camera.linear())
+              .angle();
+      if (mm > options_.cluster_radius_mm || rad > options_.cluster_rotation_rad)
+        return "another pose fits its " + std::to_string(r.correspondences) +
+               " image points as well";
+    }
+    return "";
+  };
+  std::string first_weakness;
+  double nearest_mm = -1.0, nearest_deg = 0.0;  // of the weak candidates to the prior
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    const std::string why = weakness(i);
+    if (why.empty()) return cands[i];
+    if (first_weakness.empty()) first_weakness = why;
+    if (!prior) continue;
+    const double mm = (cands[i].target_in_camera * centre - *prior * centre).norm();
+    const double deg =
+        Eigen::AngleAxisd(cands[i].target_in_camera.linear().transpose() * prior->linear())
+            .angle() *
+        180.0 / M_PI;
+    if (nearest_mm < 0 || mm < nearest_mm) nearest_mm = mm, nearest_deg = deg;
+    if (mm <= options_.prior_agree_mm && deg <= options_.prior_agree_deg) {
+      cands[i].ambiguous = true;  // kept with the prior's support
+      return cands[i];
     }
   }
-  return best;
+  res.cluster_size = seeds.front().first;
+  res.ambiguous = true;
+  char where[120] = "";
+  if (prior)
+    std::snprintf(where, sizeof where, " and the nearest is %.0f mm / %.0f deg from the prior",
+                  nearest_mm, nearest_deg);
+  res.reason = "ambiguous view: " + first_weakness +
+               (prior ? std::string(where) : std::string(" and there is no prior"));
+  return res;
 }
 
 }  // namespace ephor::rambo

@@ -30,6 +30,15 @@
 // Pruning (section 5): with a prior pose from the last few consistent
 // estimates, only matches whose model reference vertex is visible and
 // projects within prior_gate_px of the image reference vertex are tried.
+// Ambiguous views (beyond the paper): a pose is kept on its own only when
+// at least min_correspondences_alone image points fit it, their model
+// vertices are not all in one plane (a view of one face of a box-like
+// target: the face turned half round fits as well) and no other candidate
+// fits as many points about as well. Otherwise it is "no pose" without a
+// prior and, with one, kept only when it agrees with the prior
+// (prior_agree_mm of the centre, prior_agree_deg). A pose that stands on its
+// own is kept even far from the prior: the prior may be the one that is
+// wrong.
 
 #include <optional>
 #include <string>
@@ -49,19 +58,24 @@ struct TrianglePoseOptions {
   double cluster_rotation_rad = 0.15;  // and orientations within this
   int min_cluster_size = 3;            // fewer votes: "no pose"
   bool refine = true;
-  double refine_gate_px = 12.0;  // first matching of image points to projected vertices
-  double final_gate_px = 3.0;    // second matching, after the first refinement
-  double prior_gate_px = 25.0;   // pruning with a prior pose
+  double refine_gate_px = 12.0;       // first matching of image points to projected vertices
+  double final_gate_px = 3.0;         // second matching, after the first refinement
+  double prior_gate_px = 25.0;        // pruning with a prior pose
+  int min_correspondences_alone = 4;  // image points a pose needs without a prior's support
+  double prior_agree_mm = 30.0;       // a weaker pose's centre this near the prior's
+  double prior_agree_deg = 10.0;      // and its attitude this near
 };
 
 struct TrianglePoseResult {
   bool found = false;
   std::string reason;                                                  // when not found
   Eigen::Isometry3d target_in_camera = Eigen::Isometry3d::Identity();  // mm
-  long matches_tried = 0;   // image triangle x model triangle x assignment pairs solved
-  long hypotheses = 0;      // poses those gave (clustered)
-  int cluster_size = 0;     // hypotheses in the winning cluster
-  int correspondences = 0;  // image points matched to model vertices after refinement
+  long matches_tried = 0;             // image triangle x model triangle x assignment pairs solved
+  long hypotheses = 0;                // poses those gave (clustered)
+  int cluster_size = 0;               // hypotheses in the winning cluster
+  int correspondences = 0;            // image points matched to model vertices after refinement
+  std::vector<int> matched_vertices;  // their model vertices
+  bool ambiguous = false;  // found only with the prior's support (see above), or why not found
   double rms_reprojection_px = 0.0;
 };
 

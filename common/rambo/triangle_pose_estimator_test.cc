@@ -161,6 +161,79 @@ TEST(TrianglePoseEstimator, SpuriousCornersDoNotMoveThePose) {
   EXPECT_LT((r.target_in_camera.translation() - true_pose().translation()).norm(), 1e-6);
 }
 
+// A plain box seen square-on to one face: its four corners fit the pose and
+// the pose turned half round about the face's normal equally well.
+TEST(TrianglePoseEstimator, AViewOfOneFaceIsAmbiguousWithoutAPrior) {
+  const TargetModel plain(
+      {{-70, -50, -35},
+       {70, -50, -35},
+       {70, 50, -35},
+       {-70, 50, -35},
+       {-70, -50, 35},
+       {70, -50, 35},
+       {70, 50, 35},
+       {-70, 50, 35}},
+      {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}});
+  const CameraIntrinsics cam;
+  // The +z face towards the camera, 600 mm away, a little off axis.
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
+  truth.linear() = (Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()) *
+                    Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()))
+                       .toRotationMatrix();
+  truth.translation() << 20.0, -10.0, 600.0;
+  const auto triples = synthetic_image_triples(plain, cam, truth, 0.0, nullptr);
+  ASSERT_EQ(triples.size(), 4u);  // the face's four corners, nothing else
+  const TrianglePoseEstimator est(plain, cam, TrianglePoseOptions{});
+  const TrianglePoseResult alone = est.estimate(triples);
+  EXPECT_FALSE(alone.found);
+  EXPECT_TRUE(alone.ambiguous);
+  EXPECT_NE(alone.reason.find("ambiguous view"), std::string::npos) << alone.reason;
+  // The half-turned pose: the same image.
+  Eigen::Isometry3d flipped = truth;
+  flipped.linear() = truth.linear() * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
+  // A prior a little off either one picks that one.
+  for (const Eigen::Isometry3d& pose : {truth, flipped}) {
+    Eigen::Isometry3d prior = pose;
+    prior.translation() += Eigen::Vector3d(4, -3, 8);
+    prior.linear() = prior.linear() * Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX());
+    const TrianglePoseResult r = est.estimate(triples, &prior);
+    ASSERT_TRUE(r.found) << r.reason;
+    EXPECT_TRUE(r.ambiguous);
+    EXPECT_LT((r.target_in_camera.translation() - pose.translation()).norm(), 1e-3);
+    EXPECT_LT(angle(r.target_in_camera.linear(), pose.linear()), 1e-4);
+  }
+  // A prior 40 mm deeper agrees with neither (and still prunes to them):
+  // no pose, and how far the nearest is.
+  Eigen::Isometry3d far = truth;
+  far.translation().z() += 40.0;
+  const TrianglePoseResult none = est.estimate(triples, &far);
+  EXPECT_FALSE(none.found);
+  EXPECT_NE(none.reason.find("from the prior"), std::string::npos) << none.reason;
+}
+
+// One triple, three image points: up to four P3P poses, never one on its
+// own; a prior picks the true one. (One triple gives one vote per pose:
+// min_cluster_size 1 lets it through the clustering.)
+TEST(TrianglePoseEstimator, ThreePointsNeedAPriorThatAgrees) {
+  const CameraIntrinsics cam;
+  const auto all = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  const std::vector<ImageTriple> one{all.front()};
+  TrianglePoseOptions o;
+  o.min_cluster_size = 1;
+  const TrianglePoseEstimator est(box(), cam, o);
+  const TrianglePoseResult alone = est.estimate(one);
+  EXPECT_FALSE(alone.found);
+  EXPECT_TRUE(alone.ambiguous);
+  EXPECT_NE(alone.reason.find("3 image points"), std::string::npos) << alone.reason;
+  Eigen::Isometry3d prior = true_pose();
+  prior.translation() += Eigen::Vector3d(3, 3, -6);
+  const TrianglePoseResult r = est.estimate(one, &prior);
+  ASSERT_TRUE(r.found) << r.reason;
+  EXPECT_TRUE(r.ambiguous);
+  EXPECT_EQ(r.correspondences, 3);
+  EXPECT_LT((r.target_in_camera.translation() - true_pose().translation()).norm(), 1e-3);
+}
+
 TEST(TrianglePoseEstimator, NoCornersIsNoPoseWithAReason) {
   TrianglePoseEstimator est(box(), CameraIntrinsics{}, TrianglePoseOptions{});
   const TrianglePoseResult r = est.estimate({});
