@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -89,9 +90,9 @@ void WorldModel::hide(Track& t) {
   // was seen (seen_px / seen_s, already set).
 }
 
-std::vector<std::string> WorldModel::take_deaths() {
+std::vector<std::string> WorldModel::take_events() {
   std::vector<std::string> out;
-  out.swap(deaths_);
+  out.swap(events_);
   return out;
 }
 
@@ -100,7 +101,7 @@ void WorldModel::kill(Track& t, const char* why) {
   char text[160];
   std::snprintf(text, sizeof text, "object %d dead: %s at (%.0f, %.0f) px, last seen %.1f s ago",
                 t.id, why, t.estimate_px.x(), t.estimate_px.y(), now_s_ - t.seen_s);
-  deaths_.emplace_back(text);
+  events_.emplace_back(text);
   t.state = ObjectState::kDead;
   t.dead_s = now_s_;
   ++counters_.objects_died;
@@ -276,6 +277,7 @@ void WorldModel::stage4_new(const std::vector<Eigen::Vector2d>& blobs,
     Track t{.id = next_id_, .filter = DoubleAlphaBetaFilter(config_.filter)};
     ++next_id_;
     ++counters_.objects_created;
+    note_birth_near_hidden(t.id, blobs[b], areas[b]);
     if (areas[b] < config_.partial_area_ratio * whole_mark_area_px_) {
       // Partly hidden: an obscured object at the blob, measured once whole.
       ++counters_.born_partial;
@@ -291,6 +293,33 @@ void WorldModel::stage4_new(const std::vector<Eigen::Vector2d>& blobs,
     see(t, blobs[b], areas[b], false);
     tracks_.emplace(t.id, std::move(t));
   }
+}
+
+void WorldModel::note_birth_near_hidden(int id, const Eigen::Vector2d& blob_px, int area_px) {
+  // Only the obscured object nearest the new blob matters: had the blob been
+  // within its gate it would have been re-acquired, not born.
+  const Track* nearest = nullptr;
+  double nearest_px = std::numeric_limits<double>::infinity();
+  for (const auto& [other_id, t] : tracks_) {
+    if (t.state != ObjectState::kObscured) continue;
+    const double d = (dead_reckoned(t) - blob_px).norm();
+    if (d < nearest_px) {
+      nearest_px = d;
+      nearest = &t;
+    }
+  }
+  if (nearest == nullptr || nearest_px > config_.obscured_gate_max_px * 1.5) return;
+  const double hidden_s = now_s_ - nearest->seen_s;
+  const double gate =
+      std::min(config_.obscured_gate_max_px,
+               config_.obscured_gate_px + config_.obscured_gate_growth_px_s * hidden_s);
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "object %d born at (%.0f, %.0f) px, area %d px: hidden object %d is %.1f px away "
+                "(gate %.1f px, hidden %.2f s, its usual area %.0f px)",
+                id, blob_px.x(), blob_px.y(), area_px, nearest->id, nearest_px, gate, hidden_s,
+                nearest->usual_area_px);
+  events_.emplace_back(text);
 }
 
 std::vector<ObjectEstimate> WorldModel::objects() const {

@@ -163,10 +163,12 @@ class WorldModel {
   // Every live object and the recently dead, by id, as of the last frame.
   std::vector<ObjectEstimate> objects() const;
   const WorldModelCounters& counters() const { return counters_; }
-  // Why each object died since the last call ("object 3 dead: hidden 30.0 s
-  // at (212, 140) px"), oldest first: what a log reader needs to tell a lost
-  // sheep from an escaped one.
-  std::vector<std::string> take_deaths();
+  // Lifecycle events since the last call, oldest first: why each object died
+  // ("object 3 dead: hidden too long at (212, 140) px, ...") and each object
+  // born while a hidden object was near ("object 5 born at ... px: hidden
+  // object 1 14.2 px away, gate 10.7 px, ..."). What a log reader needs to
+  // tell a lost sheep from an escaped one, and to see why an id switched.
+  std::vector<std::string> take_events();
   int64_t last_utime_us() const { return last_utime_us_; }
   const WorldModelConfig& config() const { return config_; }
 
@@ -201,6 +203,8 @@ class WorldModel {
   // margin_mm > 0 counts points up to that far outside the field as inside.
   bool inside_field(const Eigen::Vector2d& px, double margin_mm = 0.0) const;
   Eigen::Vector2d dead_reckoned(const Track& t) const;
+  // Adds an event when a new object is born near a hidden one (a likely id switch).
+  void note_birth_near_hidden(int id, const Eigen::Vector2d& blob_px, int area_px);
 
   double whole_mark_area_px_ = 0.0;  // image area of a whole mark; 0 = unknown
 
@@ -213,7 +217,7 @@ class WorldModel {
   int64_t first_utime_us_ = 0;
   int64_t last_utime_us_ = 0;
   double now_s_ = 0.0;  // last frame's time since the first frame, s
-  std::vector<std::string> deaths_;
+  std::vector<std::string> events_;
   WorldModelCounters counters_;
 };
 

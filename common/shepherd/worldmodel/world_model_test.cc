@@ -362,11 +362,39 @@ TEST(WorldModelTest, HiddenSheepReckonedJustPastTheEdgeIsNotGivenUp) {
         wm, {out}, 30, 150, [](size_t, int) { return true; }, rng);
     ASSERT_TRUE(by_id(wm, 1));
     EXPECT_EQ(by_id(wm, 1)->state, ObjectState::kDead);
-    const auto deaths = wm.take_deaths();
+    const auto deaths = wm.take_events();
     ASSERT_EQ(deaths.size(), 1u);
     EXPECT_NE(deaths[0].find("object 1 dead: reckoned outside the field"), std::string::npos)
         << deaths[0];
   }
+}
+
+// A sheep that reappears outside its hidden object's gate gets a new id (an
+// id switch); the world model says so, with the distance and the gate, so a
+// log reader can tell why.
+TEST(WorldModelTest, BirthNearAHiddenObjectIsReportedWithDistanceAndGate) {
+  auto wm = make_model();
+  std::mt19937 rng(11);
+  const Sheep sheep{{200, 200}, {kSpeed, 0}};
+  feed(wm, {sheep}, 0, 30, rng);
+  feed(
+      wm, {sheep}, 30, 31, [](size_t, int) { return true; }, rng);  // hidden one frame
+  ASSERT_TRUE(wm.take_events().empty());
+  // Back 40 px off the line it walked: far outside a one-frame-old gate.
+  BlobFrame jump{.utime_us = 1'000'000 + 31 * kFrameUs, .frame_index = 31, .blobs = {}};
+  jump.blobs.push_back({sheep.at(31) + Eigen::Vector2d(0, 40), kArea});
+  wm.process(jump);
+  const auto events = wm.take_events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].find("object 2 born"), std::string::npos) << events[0];
+  EXPECT_NE(events[0].find("hidden object 1 is 40."), std::string::npos) << events[0];
+  EXPECT_NE(events[0].find("gate 1"), std::string::npos) << events[0];
+  // A sheep appearing far from every hidden object is no event.
+  BlobFrame far{.utime_us = 1'000'000 + 32 * kFrameUs, .frame_index = 32, .blobs = {}};
+  far.blobs.push_back({sheep.at(32) + Eigen::Vector2d(0, 40), kArea});
+  far.blobs.push_back({{600, 400}, kArea});
+  wm.process(far);
+  for (const auto& e : wm.take_events()) EXPECT_EQ(e.find("object 3 born"), std::string::npos) << e;
 }
 
 TEST(WorldModelTest, TwoSheepCrossingPathsKeepTheirIds) {

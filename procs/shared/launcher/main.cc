@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   bool no_scheduler = false;
   bool headless = false;
   std::string record_path;
+  std::string record_channels;
   bool restart = false;
   std::string usage_path;
   double usage_period_s = 10.0;
@@ -107,8 +108,12 @@ int main(int argc, char** argv) {
   app.add_flag("--no-scheduler", no_scheduler,
                "do not start ephor-scheduler (tasks then run under SCHED_OTHER)");
   app.add_flag("--headless", headless, "do not start user-interface processes (gui: true)");
-  app.add_option("--record", record_path,
-                 "record every LCM channel of the run to FILE with lcm-logger");
+  auto* record_option = app.add_option(
+      "--record", record_path, "record every LCM channel of the run to FILE with lcm-logger");
+  app.add_option("--record-channels", record_channels,
+                 "with --record: only channels matching this regular expression (lcm-logger -c), "
+                 "e.g. 'BLOBS|OBJECTS|GROUND_TRUTH' for an hour's run without camera frames")
+      ->needs(record_option);
   app.add_flag("--restart", restart,
                "restart crashed processes as a deputy does (backoff, at most 10 crashes in a row) "
                "instead of stopping everything");
@@ -232,7 +237,9 @@ int main(int argc, char** argv) {
     // The largest receive buffer tools/ephor setup allows (net.core.rmem_max):
     // about 1.8 s of the catching camera's 18 MB/s while the disk stalls.
     const std::string logger_url = lcm_url_with_receive_buffer(url, 33554432);
-    orders.push_back(order("logger", logger, {"--lcm-url=" + logger_url, "-q", "-f", abs_record},
+    std::vector<std::string> logger_args{"--lcm-url=" + logger_url, "-q", "-f", abs_record};
+    if (!record_channels.empty()) logger_args.push_back("--channel=" + record_channels);
+    orders.push_back(order("logger", logger, logger_args,
                            base_env("logger", only_host.empty() ? "" : only_host), false));
   }
   if (!no_scheduler) {

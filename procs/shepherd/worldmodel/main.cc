@@ -124,7 +124,8 @@ class Associate {
                  " blob(s) with a non-finite centre or area <= 0 ignored");
     auto out = to_message(wm_, msg->frame_index);
     bus_.publish(ephor::channels::kObjects, out);
-    for (const auto& death : wm_.take_deaths()) spdlog::info("{}", death);  // rare: once a sheep
+    for (const auto& event : wm_.take_events())
+      spdlog::info("{}", event);  // rare: a birth or death
     if (after.frames % 300 == 0) {
       int live = 0;
       for (const auto& o : out.objects) live += o.state != ephor::shepherd_object_t::STATE_DEAD;
