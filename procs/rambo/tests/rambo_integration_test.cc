@@ -1,10 +1,11 @@
 // The whole RAMBO slice (deploy/rambo.pbtxt) started headless by the launcher,
 // as a user runs it, in a private network namespace: the simulator's slowly
-// tumbling target (2 deg/s), pose from its oracle image triples (the
-// manifest's default: projected vertices + noise, not the features process's), the
+// tumbling target (2 deg/s), pose from the image triples the features
+// process finds in its rendered frames (the manifest's default), the
 // rigid-body predictor, the planner and the shared comm and arm. A listener
 // on the same bus checks that the laser tags at least one diode within 80 s,
-// that poses are mostly found and close to the truth, and that bad input
+// that poses are often found and close to the truth (no wrong pose of an
+// ambiguous view: p99 under 50 mm), and that bad input
 // (a NaN prediction, a features message with NaN pixels, bytes that are no
 // message) is refused by name while the loop goes on. The run is stopped by
 // SIGINT; the simulator's summary must then name the tagged diode.
@@ -91,7 +92,7 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
     f.source = "rambo-test";
     f.num_triples = 1;
     f.triples_px = {{std::nan(""), 1.0, 2.0, 3.0, 4.0, 5.0}};
-    bus.publish(rambo::channels::kFeaturesOracle, f);
+    bus.publish(rambo::channels::kFeatures, f);
     const char garbage[] = "not an lcm message";
     bus.publish_raw(rambo::channels::kPose, garbage, sizeof garbage);
   }
@@ -118,7 +119,9 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
     std::lock_guard<std::mutex> lock(heard.mutex);
     std::fprintf(stderr, "%d poses (%d found), %d predictions, %d tagged\n", heard.poses,
                  heard.found, heard.predictions, heard.max_tagged);
-    EXPECT_GT(heard.found, heard.poses / 3) << "pose rarely found";
+    // From the images, frames where the laser's tool turns the camera off
+    // the target or shows it one face give no pose (seen: 22-43 % found).
+    EXPECT_GT(heard.found, heard.poses / 6) << "pose rarely found";
   }
   std::ifstream in(summary);
   nlohmann::json s;
@@ -126,9 +129,12 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
   std::fprintf(stderr, "summary: %s\n", s.dump().c_str());
   EXPECT_GE(s.at("tagged").get<int>(), 1);
   EXPECT_EQ(s.at("diodes").get<int>(), 4);
-  EXPECT_EQ(s.at("pose_features_source").get<std::string>(), "oracle");
+  EXPECT_EQ(s.at("pose_features_source").get<std::string>(), "features");
   ASSERT_FALSE(s.at("pose_error_mm").is_null());
   EXPECT_LT(s.at("pose_error_mm").at("p50").get<double>(), 5.0);
+  // A wrong pose of a view of one face was 110-280 mm off (seen before
+  // ambiguous views became "no pose").
+  EXPECT_LT(s.at("pose_error_mm").at("p99").get<double>(), 50.0);
   EXPECT_LT(s.at("pose_error_deg").at("p50").get<double>(), 1.0);
   // The summary fields, present and sane.
   ASSERT_TRUE(s.contains("time_to_all_s"));

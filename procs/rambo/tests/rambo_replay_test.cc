@@ -4,8 +4,8 @@
 //  1. a headless run of deploy/rambo.pbtxt (seed 2, 20 s) recorded by the
 //     launcher's `--record` (lcm-logger);
 //  2. a fresh ephor-rambo-pose is started and `lcm-logplayer` plays the log's
-//     pose inputs to it (RAMBO_FEATURES_ORACLE, the manifest's default image
-//     triples; ARM_STATE, the camera's pose; RAMBO_PREDICTION, section 5's
+//     pose inputs to it (RAMBO_FEATURES, the image triples the features
+//     process found in the frames, the manifest's default; ARM_STATE, the camera's pose; RAMBO_PREDICTION, section 5's
 //     prior); its RAMBO_POSE messages are heard.
 // Every RAMBO_POSE of the live run must come back byte-identical from the
 // replay (matched by the frame's capture time), except the fields that say
@@ -66,7 +66,7 @@ std::map<int64_t, rambo_pose_t> replay(const std::string& log_path,
   Processes p;
   std::vector<std::string> args{"--no-mlock", "--name", "pose", "--model",
                                 "deploy/rambo/target.pbtxt", "--features-channel",
-                                rambo::channels::kFeaturesOracle,
+                                rambo::channels::kFeatures,
                                 // Never drop a frame, however slow this
                                 // process is on a loaded machine (the live
                                 // run dropped none: checked below).
@@ -75,7 +75,7 @@ std::map<int64_t, rambo_pose_t> replay(const std::string& log_path,
   p.start("pose", bin("ephor-rambo-pose"), args, env);
   EXPECT_TRUE(wait_until([&] { return p.has_line("pose", "ready:"); }, seconds(10)));
   p.start("player", "/usr/bin/lcm-logplayer",
-          {"--lcm-url", kUrl, "--regexp", "^(RAMBO_FEATURES_ORACLE|ARM_STATE|RAMBO_PREDICTION)$",
+          {"--lcm-url", kUrl, "--regexp", "^(RAMBO_FEATURES|ARM_STATE|RAMBO_PREDICTION)$",
            log_path},
           env);
   EXPECT_TRUE(wait_until([&] { return p.exited("player"); }, seconds(60)));
@@ -146,7 +146,7 @@ TEST(RamboReplay, RecordedPoseInputsReplayToByteIdenticalPoses) {
     lcm::LogFile log(log_path, "r");
     ASSERT_TRUE(log.good()) << log_path;
     while (const lcm::LogEvent* e = log.readNextEvent()) {
-      if (e->channel == rambo::channels::kFeaturesOracle) ++features;
+      if (e->channel == rambo::channels::kFeatures) ++features;
       if (e->channel != rambo::channels::kPose) continue;
       rambo_pose_t m;
       if (m.decode(e->data, 0, static_cast<int>(e->datalen)) == static_cast<int>(e->datalen))
@@ -155,7 +155,7 @@ TEST(RamboReplay, RecordedPoseInputsReplayToByteIdenticalPoses) {
   }
   // 100 at 5 Hz for 20 s; fewer when the machine is loaded (seen: 29 at a
   // load average of 16 on 2 cores), which the comparison does not need.
-  ASSERT_GE(features, 20) << "RAMBO_FEATURES_ORACLE messages in the log (5 Hz for 20 s)";
+  ASSERT_GE(features, 20) << "RAMBO_FEATURES messages in the log (5 Hz for 20 s)";
   int found = 0, pruned = 0;
   for (const auto& [utime, m] : live) {
     found += m.found ? 1 : 0;
