@@ -13,6 +13,7 @@ here, but latency figures are cleanest with --parallel 1 on a quiet machine.
   tools/ephor bench herd --json herd.json                      # 2,4,6,8 sheep x multi,lookahead x 10 min
   tools/ephor bench herd --sheep 4 --seeds 1,2,3 --sheep-speed 20 --json f.json
   tools/ephor bench herd --sheep 4 --sim-arg=--clouds=2 --json clouds.json
+  tools/ephor bench herd --sheep 8 --seeds 1,2,3 --keep runs/    # and keep each run's log and recording
 
 The default table (8 runs of 10 minutes) takes about 80 minutes with
 --parallel 1: a benchmark, not a test.
@@ -56,10 +57,20 @@ def run_cell(cell, args):
                "--summary", summary]
         for a in args.sim_arg:
             cmd += ["--arg", f"sim={a}"]
+        name = f"sheep{cell['sheep']}_{cell['planner']}_seed{cell['seed']}"
+        if args.keep:
+            # Small enough to keep for every run (~4 MB a minute): what the tracker saw and
+            # did, the truth to score it and the arm; `tools/ephor replay FILE --procs
+            # worldmodel` reruns a changed world model over it.
+            cmd += ["--record", os.path.join(args.keep, name + ".lcm"),
+                    "--record-channels", "BLOBS|OBJECTS|GROUND_TRUTH|ARM_STATE|ARM_GOAL"]
         if not args.no_netns:
             cmd = [os.path.join(ROOT, "tools", "netns-run")] + cmd
         t0 = time.monotonic()
         log = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if args.keep:
+            with open(os.path.join(args.keep, name + ".log"), "w") as f:
+                f.write(log.stdout)
         if log.returncode != 0 or not os.path.exists(summary):
             sys.stderr.write(log.stdout[-4000:])
             return dict(cell, error=f"run failed (exit {log.returncode})")
@@ -94,6 +105,9 @@ def main():
                     help="run on the host's network instead of a private namespace per run (needs no "
                          "root, but then no other LCM run may be going on at the same time)")
     ap.add_argument("--json", help="write the cells here")
+    ap.add_argument("--keep", metavar="DIR",
+                    help="keep each run's output (DIR/CELL.log: escapes, id switches, the world model's "
+                         "births and deaths) and a recording of its non-camera channels (DIR/CELL.lcm)")
     # A bad flag: one line naming it and status 2, without the usage block (issue 18).
     ap.error = lambda message: ap.exit(2, f"{ap.prog}: error: {message}\n")
     args = ap.parse_args()
@@ -110,6 +124,8 @@ def main():
     if not os.path.exists(os.path.join(BIN, "ephor-launch")):
         ap.error(f"no {BIN}/ephor-launch: build first (tools/ephor build)")
 
+    if args.keep:
+        os.makedirs(args.keep, exist_ok=True)
     cells = [{"sheep": n, "planner": p, "seed": s} for n in args.sheep for p in planners for s in args.seeds]
     print(f"bench herd: {len(cells)} run(s) of {args.minutes:g} min at {args.sheep_speed:g} mm/s, "
           f"{args.parallel} at a time; sim args {args.sim_arg}", flush=True)
