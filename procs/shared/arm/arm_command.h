@@ -6,15 +6,17 @@
 #include <string>
 
 #include "common/arm/puma560.h"
+#include "common/motion/trajectory.h"
 
 namespace ephor::arm {
 
 // arm_goal_t.PLANE_* and KIND_* (main.cc checks that the values agree).
 inline constexpr int kPlaneElevation = 0;
 inline constexpr int kPlaneObject = 1;
-inline constexpr int kKindImage = 0;   // shepherding: a target in the image and a plane
-inline constexpr int kKindPose = 1;    // a tool-down pose in the work cell frame F
-inline constexpr int kKindJoints = 2;  // six joint angles
+inline constexpr int kKindImage = 0;       // shepherding: a target in the image and a plane
+inline constexpr int kKindPose = 1;        // a tool-down pose in the work cell frame F
+inline constexpr int kKindJoints = 2;      // six joint angles
+inline constexpr int kKindTrajectory = 3;  // a joint trajectory, executed as given (RAMBO)
 
 // One command. Which fields count depends on `kind`.
 struct ArmCommand {
@@ -28,7 +30,8 @@ struct ArmCommand {
                            // kKindPose: orientation about +z of F, rad
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // kKindPose: tool tip in F, mm
   Joints joints = Joints::Zero();                         // kKindJoints: rad
-  double max_speed_mm_s = 0.0;                            // 0 = the arm's default cap
+  Trajectory trajectory;        // kKindTrajectory: t from 0 (s), q (rad), qd (rad/s)
+  double max_speed_mm_s = 0.0;  // 0 = the arm's default cap
 };
 
 // arm_ack_t.STATUS_* values.

@@ -47,9 +47,11 @@ Validation CommandValidator::validate(const ArmCommand& cmd, const Joints& curre
       return validate_pose(cmd, current);
     case kKindJoints:
       return validate_joints(cmd);
+    case kKindTrajectory:
+      return validate_trajectory(cmd, current);
     default:
-      return reject(
-          fmt::format("unknown goal kind {} (want 0 = image, 1 = pose, 2 = joints)", cmd.kind));
+      return reject(fmt::format(
+          "unknown goal kind {} (want 0 = image, 1 = pose, 2 = joints, 3 = trajectory)", cmd.kind));
   }
 }
 
@@ -136,6 +138,62 @@ Validation CommandValidator::validate_joints(const ArmCommand& cmd) const {
   v.target.pose_in_base = arm_.forward(cmd.joints);
   v.target.goal_q = cmd.joints;
   v.target.speed_mm_s = cmd.max_speed_mm_s == 0.0 ? config_.max_speed_mm_s : cmd.max_speed_mm_s;
+  v.ok = true;
+  return v;
+}
+
+Validation CommandValidator::validate_trajectory(const ArmCommand& cmd,
+                                                 const Joints& current) const {
+  const auto& pts = cmd.trajectory.points;
+  if (pts.size() < 2)
+    return reject(fmt::format("trajectory has {} point(s) (at least 2)", pts.size()));
+  if (!current.allFinite()) return reject("the arm's current joints are unknown or not finite");
+  const JointLimits& lim = arm_.limits();
+  constexpr double kSlack = 1e-6;  // relative, for limits met exactly by the sender
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    const TrajectoryPoint& p = pts[k];
+    if (!std::isfinite(p.t_s) || !p.q.allFinite() || !p.qd.allFinite())
+      return reject(fmt::format("trajectory point {} is not finite", k));
+    if (k == 0 && p.t_s != 0.0)
+      return reject(fmt::format("trajectory starts at t = {} s (want 0)", p.t_s));
+    if (k > 0 && !(p.t_s > pts[k - 1].t_s))
+      return reject(
+          fmt::format("trajectory time {:.4f} s at point {} does not increase", p.t_s, k));
+    for (int j = 0; j < 6; ++j) {
+      if (p.q[j] < lim.q_min[j] || p.q[j] > lim.q_max[j])
+        return reject(
+            fmt::format("trajectory point {} (t {:.3f} s): joint {} at {:.3f} rad is outside "
+                        "[{:.3f}, {:.3f}] rad",
+                        k, p.t_s, j + 1, p.q[j], lim.q_min[j], lim.q_max[j]));
+      if (std::abs(p.qd[j]) > lim.qd_max[j] * (1.0 + kSlack))
+        return reject(fmt::format(
+            "trajectory point {} (t {:.3f} s): joint {} speed {:.3f} rad/s is above its limit "
+            "{:.3f} rad/s",
+            k, p.t_s, j + 1, p.qd[j], lim.qd_max[j]));
+      if (k > 0) {
+        const double qdd = (p.qd[j] - pts[k - 1].qd[j]) / (p.t_s - pts[k - 1].t_s);
+        if (std::abs(qdd) > lim.qdd_max[j] * (1.0 + kSlack))
+          return reject(fmt::format(
+              "trajectory point {} (t {:.3f} s): joint {} acceleration {:.2f} rad/s^2 is above "
+              "its limit {:.2f} rad/s^2",
+              k, p.t_s, j + 1, qdd, lim.qdd_max[j]));
+      }
+    }
+    if (auto hit = collisions_.collision(p.q))
+      return reject(fmt::format("trajectory point {} (t {:.3f} s) collides: ", k, p.t_s) + *hit);
+  }
+  const double off = (pts.front().q - current).cwiseAbs().maxCoeff();
+  if (off > config_.trajectory_start_tolerance_rad)
+    return reject(fmt::format(
+        "trajectory starts {:.3f} rad from the arm's current joints (at most {:.3f} rad)", off,
+        config_.trajectory_start_tolerance_rad));
+  const ToolInField tool = tool_in_field(cell_, pts.back().q);
+  Validation v;
+  v.target.tip_mm = tool.tip_mm;
+  v.target.theta_field_rad = tool.theta_rad;
+  v.target.pose_in_base = arm_.forward(pts.back().q);
+  v.target.goal_q = pts.back().q;
+  v.target.speed_mm_s = config_.max_speed_mm_s;
   v.ok = true;
   return v;
 }

@@ -12,6 +12,13 @@
 // tip must lie inside the work cell's area, between the table and
 // max_tip_height_mm, and pass the same reach and collision checks. A joint
 // target (kKindJoints) must be within the joint limits and collision-free.
+// A joint trajectory (kKindTrajectory) is executed as given, so the arm
+// checks all of it: at least two points, times from 0 and increasing, every
+// number finite, its first point at the current joints (within
+// trajectory_start_tolerance_rad), every point within the joint position
+// and velocity limits and collision-free, and the velocity change between
+// neighbouring points within the acceleration limits; a refusal names the
+// point, the joint and the value.
 //
 // Image orientation theta (rad from +u towards +v) becomes an orientation in
 // F through the calibration's linear part (the paper's section 5: "a vector
@@ -34,6 +41,7 @@ struct ValidatorConfig {
   int image_height_px = 482;
   double max_speed_mm_s = 300.0;     // the cap; also the speed of a command that asks for 0
   double max_tip_height_mm = 800.0;  // kKindPose: highest tool tip above the table, mm
+  double trajectory_start_tolerance_rad = 0.05;  // kKindTrajectory: first point vs current
 };
 
 // A command that passed: where the tool goes.
@@ -67,6 +75,7 @@ class CommandValidator {
   Validation validate_image(const ArmCommand& cmd, const Joints& current) const;
   Validation validate_pose(const ArmCommand& cmd, const Joints& current) const;
   Validation validate_joints(const ArmCommand& cmd) const;
+  Validation validate_trajectory(const ArmCommand& cmd, const Joints& current) const;
   // Speed checks shared by every kind; empty when fine.
   std::string speed_problem(double max_speed_mm_s) const;
   // IK nearest `current` and the collision check for a tool-down target in F.

@@ -171,5 +171,72 @@ TEST_F(PoseGoalTest, JointGoalsAreCheckedAgainstTheJointLimits) {
   expect_rejected(c, "joint 1 target 3.500 rad is outside");
 }
 
+// Joint trajectories (arm_goal_t.KIND_TRAJECTORY): executed as given, so
+// every point is checked against the PUMA's limits (qd_max 1 rad/s and
+// qdd_max 2 rad/s^2 on joints 1-3).
+class TrajectoryGoalTest : public CommandValidatorTest {
+ protected:
+  // Joint 1 from the current joints by `rad`, rest to rest, as a cubic
+  // q(s) = 3 s^2 - 2 s^3 over duration_s, sampled every 10 ms: peak speed
+  // 1.5 rad / T, peak acceleration 6 rad / T^2.
+  ArmCommand cubic(double rad, double duration_s) const {
+    ArmCommand c;
+    c.kind = kKindTrajectory;
+    const int n = static_cast<int>(std::lround(duration_s / 0.01));
+    for (int k = 0; k <= n; ++k) {
+      const double s = static_cast<double>(k) / n;
+      TrajectoryPoint p;
+      p.t_s = s * duration_s;
+      p.q = current_;
+      p.q[0] += rad * (3 * s * s - 2 * s * s * s);
+      p.qd[0] = rad * (6 * s - 6 * s * s) / duration_s;
+      c.trajectory.points.push_back(p);
+    }
+    return c;
+  }
+};
+
+TEST_F(TrajectoryGoalTest, ATrajectoryWithinTheLimitsIsAcceptedAsGiven) {
+  // 0.5 rad in 2 s: 0.375 rad/s and 0.75 rad/s^2 at most.
+  const ArmCommand c = cubic(0.5, 2.0);
+  const Validation v = validator_.validate(c, current_);
+  ASSERT_TRUE(v.ok) << v.reason;
+  EXPECT_LT((v.target.goal_q - c.trajectory.points.back().q).norm(), 1e-12);
+}
+
+TEST_F(TrajectoryGoalTest, LimitsBrokenAnywhereAreRefusedNamingPointJointAndValue) {
+  // 0.5 rad in 0.5 s: 1.5 rad/s peak (limit 1 rad/s) and 12 rad/s^2 at the
+  // start (limit 2): the acceleration at the first step is met first.
+  expect_rejected(cubic(0.5, 0.5), "trajectory point 1 (t 0.010 s): joint 1 acceleration");
+  {
+    ArmCommand c = cubic(0.5, 2.0);
+    c.trajectory.points[100].qd[1] = 1.2;  // joint 2, 1.2 rad/s at t = 1 s
+    expect_rejected(c, "joint 2 speed 1.200 rad/s is above its limit 1.000 rad/s");
+  }
+  {
+    ArmCommand c = cubic(0.5, 2.0);
+    c.trajectory.points[50].q[0] = 3.5;  // joint 1 stops at 2.79 rad
+    expect_rejected(c, "trajectory point 50 (t 0.500 s): joint 1 at 3.500 rad is outside");
+  }
+  {
+    ArmCommand c = cubic(0.5, 2.0);
+    for (auto& p : c.trajectory.points) p.q[2] += 0.2;  // not where the arm is
+    expect_rejected(c, "trajectory starts 0.200 rad from the arm's current joints");
+  }
+  {
+    ArmCommand c = cubic(0.5, 2.0);
+    c.trajectory.points[10].t_s = c.trajectory.points[9].t_s;
+    expect_rejected(c, "at point 10 does not increase");
+  }
+  {
+    ArmCommand c = cubic(0.5, 2.0);
+    c.trajectory.points[3].qd[4] = std::numeric_limits<double>::quiet_NaN();
+    expect_rejected(c, "trajectory point 3 is not finite");
+  }
+  ArmCommand one = cubic(0.5, 2.0);
+  one.trajectory.points.resize(1);
+  expect_rejected(one, "trajectory has 1 point(s)");
+}
+
 }  // namespace
 }  // namespace ephor::arm

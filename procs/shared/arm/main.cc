@@ -1,8 +1,9 @@
 // ephor-arm: the arm server of every system with an arm (first written for
 // paper 003, sections 3.6 and 5), on the arm host. It takes arm commands from
 // ephor-comm (an image target with plane and orientation, converted to the
-// field frame with the calibration; a tool-down pose in the work cell; or
-// joint angles: arm_goal_t.KIND_*), given its work cell and tool by
+// field frame with the calibration; a tool-down pose in the work cell; joint
+// angles; or a joint trajectory, checked against the limits and executed as
+// given: arm_goal_t.KIND_*), given its work cell and tool by
 // --workcell FILE, solves the PUMA 560's inverse kinematics, plans a motion whose
 // joint speeds are all within their limits, sends the joint trajectory to the
 // servo layer and acknowledges: ACCEPTED, then DONE or FAILED; REJECTED (with
@@ -74,6 +75,7 @@ static_assert(ephor::arm::kPlaneObject == ephor::arm_goal_t::PLANE_OBJECT);
 static_assert(ephor::arm::kKindImage == ephor::arm_goal_t::KIND_IMAGE);
 static_assert(ephor::arm::kKindPose == ephor::arm_goal_t::KIND_POSE);
 static_assert(ephor::arm::kKindJoints == ephor::arm_goal_t::KIND_JOINTS);
+static_assert(ephor::arm::kKindTrajectory == ephor::arm_goal_t::KIND_TRAJECTORY);
 static_assert(static_cast<int>(AckStatus::kAccepted) == ephor::arm_ack_t::STATUS_ACCEPTED);
 static_assert(static_cast<int>(AckStatus::kDone) == ephor::arm_ack_t::STATUS_DONE);
 static_assert(static_cast<int>(AckStatus::kRejected) == ephor::arm_ack_t::STATUS_REJECTED);
@@ -320,6 +322,18 @@ class ArmProcess {
     cmd.v_px = static_cast<double>(m.v);
     cmd.theta_rad = static_cast<double>(m.theta_rad);
     cmd.max_speed_mm_s = static_cast<double>(m.max_speed_mm_s);
+    if (m.kind == ephor::arm::kKindTrajectory) {
+      // LCM's decoder keeps the arrays num_points long.
+      for (std::size_t k = 0; k < m.traj_t_s.size(); ++k) {
+        ephor::arm::TrajectoryPoint p;
+        p.t_s = static_cast<double>(m.traj_t_s[k]);
+        for (int j = 0; j < 6; ++j) {
+          p.q[j] = m.traj_q_rad[k][static_cast<std::size_t>(j)];
+          p.qd[j] = m.traj_qd_rad_s[k][static_cast<std::size_t>(j)];
+        }
+        cmd.trajectory.points.push_back(p);
+      }
+    }
 
     // Validate and plan without the lock (OMPL may take its time budget); if
     // the arm moved meanwhile, plan again from where it is now.
@@ -327,7 +341,16 @@ class ArmProcess {
     ephor::arm::MotionPlan plan;
     for (int attempt = 0; attempt < 3; ++attempt) {
       v = validator_.validate(cmd, start);
-      if (v.ok) plan = planner_.plan(start, v.target.pose_in_base, v.target.speed_mm_s);
+      if (v.ok && cmd.kind == ephor::arm::kKindTrajectory) {
+        // Executed as given: the validator checked it against the limits.
+        plan = ephor::arm::MotionPlan{};
+        plan.ok = true;
+        plan.kind = ephor::arm::MotionKind::kJointSpace;
+        plan.goal_q = v.target.goal_q;
+        plan.trajectory = cmd.trajectory;
+      } else if (v.ok) {
+        plan = planner_.plan(start, v.target.pose_in_base, v.target.speed_mm_s);
+      }
       std::lock_guard<std::mutex> lock(mutex_);
       if (!v.ok) return reject(m, v.reason);
       if (!plan.ok) return reject(m, plan.reason);
@@ -383,8 +406,11 @@ class ArmProcess {
     publish_ack(ack, m.utime);
     spdlog::info(
         "seq {} goal {}: {} move to ({:.0f}, {:.0f}, {:.0f}) mm, {:.2f} s, speed scale {:.2f}{}",
-        m.seq, m.goal_id, ephor::arm::to_string(plan.kind), v.target.tip_mm.x(),
-        v.target.tip_mm.y(), v.target.tip_mm.z(), plan.trajectory.duration_s(), plan.speed_scale,
+        m.seq, m.goal_id,
+        m.kind == ephor::arm::kKindTrajectory ? "given trajectory"
+                                              : ephor::arm::to_string(plan.kind),
+        v.target.tip_mm.x(), v.target.tip_mm.y(), v.target.tip_mm.z(), plan.trajectory.duration_s(),
+        plan.speed_scale,
         plan.cartesian_rejected.empty()
             ? ""
             : " (straight line not possible: " + plan.cartesian_rejected + ")");

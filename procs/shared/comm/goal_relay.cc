@@ -42,9 +42,23 @@ const char* to_string(AckStatus status) {
 
 std::optional<std::string> goal_problem(const Goal& goal) {
   if (goal.goal_id < 0) return fmt::format("goal_id {} is negative", goal.goal_id);
-  if (goal.kind < 0 || goal.kind > 2)
-    return fmt::format("kind {} is none of KIND_IMAGE (0), KIND_POSE (1), KIND_JOINTS (2)",
-                       static_cast<int>(goal.kind));
+  if (goal.kind < 0 || goal.kind > 3)
+    return fmt::format(
+        "kind {} is none of KIND_IMAGE (0), KIND_POSE (1), KIND_JOINTS (2), KIND_TRAJECTORY (3)",
+        static_cast<int>(goal.kind));
+  if (goal.kind == 3) {
+    if (goal.traj_t_s.size() < 2 || goal.traj_q_rad.size() != goal.traj_t_s.size() ||
+        goal.traj_qd_rad_s.size() != goal.traj_t_s.size())
+      return fmt::format("trajectory of {} times, {} positions and {} velocities (want >= 2 each)",
+                         goal.traj_t_s.size(), goal.traj_q_rad.size(), goal.traj_qd_rad_s.size());
+    const auto finite = [](const std::array<double, 6>& a) {
+      return std::all_of(a.begin(), a.end(), [](double x) { return std::isfinite(x); });
+    };
+    for (std::size_t k = 0; k < goal.traj_t_s.size(); ++k)
+      if (!std::isfinite(goal.traj_t_s[k]) || !finite(goal.traj_q_rad[k]) ||
+          !finite(goal.traj_qd_rad_s[k]))
+        return fmt::format("trajectory point {} is not finite", k);
+  }
   if (goal.kind == 0 && goal.plane != static_cast<int8_t>(Plane::kElevation) &&
       goal.plane != static_cast<int8_t>(Plane::kObject))
     return fmt::format("plane {} is neither PLANE_ELEVATION (0) nor PLANE_OBJECT (1)",

@@ -54,16 +54,20 @@ enum class Plane : int8_t { kElevation = 0, kObject = 1 };
 struct Goal {
   int64_t goal_id = 0;        // planner's id, unique per planner run
   int64_t planned_utime = 0;  // arm_goal_t.utime: wall clock when planned, us (identity, see above)
-  int8_t kind = 0;            // arm_goal_t.KIND_* (0 image, 1 pose, 2 joints); validated
-  int8_t plane = 0;           // kind image: Plane as sent; validated by goal_problem()
-  float u = 0.0f;             // kind image: target in the image, px
-  float v = 0.0f;             // px
-  float theta_rad = 0.0f;     // manipulator orientation in the image, rad
+  int8_t kind = 0;         // arm_goal_t.KIND_* (0 image, 1 pose, 2 joints, 3 trajectory); validated
+  int8_t plane = 0;        // kind image: Plane as sent; validated by goal_problem()
+  float u = 0.0f;          // kind image: target in the image, px
+  float v = 0.0f;          // px
+  float theta_rad = 0.0f;  // manipulator orientation in the image, rad
   float max_speed_mm_s = 0.0f;          // end-effector speed cap, mm/s; 0 = the arm's default
   int64_t source_frame_utime = 0;       // capture time of the frame behind the goal, us (passed on)
   int32_t target_object = -1;           // object id served, -1 = none
   std::array<double, 3> position_mm{};  // kind pose: tool tip in the work cell frame, mm
   std::array<double, 6> joints_rad{};   // kind joints: rad
+  // Kind trajectory (3): samples at t_s (s from the start), positions (rad)
+  // and velocities (rad/s); the arm checks them against its limits.
+  std::vector<float> traj_t_s;
+  std::vector<std::array<double, 6>> traj_q_rad, traj_qd_rad_s;
 };
 
 // One transmission of an arm command (arm_cmd_t without header and utime).

@@ -104,6 +104,19 @@ Goal to_goal(const ephor::arm_goal_t& m) {
   g.max_speed_mm_s = m.max_speed_mm_s;
   g.source_frame_utime = m.source_frame_utime;
   g.target_object = m.target_object;
+  // A trajectory's arrays as sent (num_points is checked by LCM's decoder
+  // against the arrays; goal_problem() checks the rest).
+  g.traj_t_s = m.traj_t_s;
+  for (const auto& q : m.traj_q_rad) {
+    std::array<double, 6> a{};
+    std::copy_n(q.begin(), std::min<std::size_t>(6, q.size()), a.begin());
+    g.traj_q_rad.push_back(a);
+  }
+  for (const auto& qd : m.traj_qd_rad_s) {
+    std::array<double, 6> a{};
+    std::copy_n(qd.begin(), std::min<std::size_t>(6, qd.size()), a.begin());
+    g.traj_qd_rad_s.push_back(a);
+  }
   return g;
 }
 
@@ -168,6 +181,10 @@ ephor::arm_cmd_t to_cmd(const Command& c, int64_t first_sent_utime) {
   m.theta_rad = c.goal.theta_rad;
   m.max_speed_mm_s = c.goal.max_speed_mm_s;
   m.source_frame_utime = c.goal.source_frame_utime;
+  m.num_points = static_cast<int32_t>(c.goal.traj_t_s.size());
+  m.traj_t_s = c.goal.traj_t_s;
+  for (const auto& q : c.goal.traj_q_rad) m.traj_q_rad.emplace_back(q.begin(), q.end());
+  for (const auto& qd : c.goal.traj_qd_rad_s) m.traj_qd_rad_s.emplace_back(qd.begin(), qd.end());
   return m;
 }
 
