@@ -91,6 +91,34 @@ Moments refine(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& roi, int 
   return m;
 }
 
+// Binary moments of the largest 8-connected part of sign * (cur - old) >=
+// th inside `box`: the ball's disc without the noise pixels scattered over
+// the box (at 2 grey levels about 1 % of the box; they pulled the centre
+// towards the box's middle, i.e. towards the previous estimate).
+Moments disc_moments(const cv::Mat& cur, const cv::Mat& old, const cv::Rect& box, int sign,
+                     int th) {
+  cv::Mat mask(box.size(), CV_8U);
+  for (int y = 0; y < box.height; ++y) {
+    const uint8_t* a = cur.ptr<uint8_t>(box.y + y) + box.x;
+    const uint8_t* b = old.ptr<uint8_t>(box.y + y) + box.x;
+    uint8_t* o = mask.ptr<uint8_t>(y);
+    for (int x = 0; x < box.width; ++x)
+      o[x] = sign * (static_cast<int>(a[x]) - static_cast<int>(b[x])) >= th ? 255 : 0;
+  }
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  Moments m;
+  int best = 0;
+  for (int k = 1; k < count; ++k)
+    if (best == 0 || stats.at<int>(k, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA))
+      best = k;
+  if (best == 0) return m;
+  m.n = stats.at<int>(best, cv::CC_STAT_AREA);
+  m.sx = (centroids.at<double>(best, 0) + box.x) * m.n;
+  m.sy = (centroids.at<double>(best, 1) + box.y) * m.n;
+  return m;
+}
+
 }  // namespace
 
 double displacement_from_crescent_separation(double separation_px, double r) {
@@ -136,6 +164,130 @@ void MotionCentroid::smooth(Frame& f, const cv::Rect& roi) const {
 
 MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
                                           const std::optional<cv::Rect>& window) {
+  const auto t0 = Clock::now();
+  MotionMeasurement out = difference(frame, window);
+  const bool moved = out.found;  // the difference saw motion
+  if (options_.background_centre) {
+    const size_t slots = ring_.size();
+    Frame& cur = ring_[static_cast<size_t>(frames_ + static_cast<long>(slots) - 1) % slots];
+    const cv::Rect roi = clip_window(window, frame.size());
+    if (has_background_ && roi.area() > 0 && frames_ >= static_cast<long>(slots)) {
+      // Near the difference's estimate; the guard when the difference shows
+      // nothing (a ball just released, too slow to show).
+      std::optional<Eigen::Vector2d> seed;
+      if (out.found)
+        seed = out.centroid_px;
+      else if (guard_centre_)
+        seed = guard_centre_;
+      // Without the contrast sign the ball's disc and the reference's ghost
+      // of it (opposite sign) cannot be told apart: the difference's only.
+      if (out.contrast_sign == 0) seed.reset();
+      // No disc there against the reference: what the difference saw was
+      // not the ball's whole disc (the ball leaving behind the cup, the arm
+      // moving); no measurement is better than a wrong one.
+      if (seed && seed->allFinite() && !centre_on_background(cur, roi, *seed, out)) {
+        out.found = false;
+        out.ball_centre = false;
+      }
+    }
+    update_background(frame, out, moved);
+  }
+  out.elapsed_ms = ms_since(t0);
+  return out;
+}
+
+double MotionCentroid::guard_half_px() const {
+  const double r = options_.ball_radius_px > 0.0 ? options_.ball_radius_px : learnt_radius_px_;
+  // The disc, its blur, and a few px of motion in one frame of a slow ball.
+  return std::max(r, 10.0) + 3.0 * options_.smoothing_sigma_px + 4.0;
+}
+
+bool MotionCentroid::centre_on_background(Frame& cur, const cv::Rect& roi,
+                                          const Eigen::Vector2d& seed, MotionMeasurement& out) {
+  const cv::Rect image(0, 0, cur.raw.cols, cur.raw.rows);
+  Eigen::Vector2d centre = seed;
+  const int th = std::max(1, static_cast<int>(std::ceil(options_.background_threshold)));
+  const int sign = out.contrast_sign;
+  Moments m;
+  for (int pass = 0; pass < 3; ++pass) {
+    // The search box: the guard's size around the newest estimate.
+    const double half = guard_half_px();
+    const cv::Rect box = cv::Rect(static_cast<int>(std::floor(centre.x() - half)),
+                                  static_cast<int>(std::floor(centre.y() - half)),
+                                  static_cast<int>(std::ceil(2.0 * half)) + 1,
+                                  static_cast<int>(std::ceil(2.0 * half)) + 1) &
+                         roi & image;
+    if (box.area() == 0) return false;
+    smooth(cur, box);
+    smooth(background_, box);
+    m = disc_moments(cur.smoothed, background_.smoothed, box, sign, th);
+    if (m.n < options_.min_area_px) return false;
+    const Eigen::Vector2d next(m.sx / m.n, m.sy / m.n);
+    const bool settled = (next - centre).norm() < 0.05;
+    centre = next;
+    if (settled) break;
+  }
+  // More than a disc's area (of the largest radius the guard allows) is not
+  // the ball alone: the arm or a shadow moved there; keep the difference's.
+  const double half = guard_half_px();
+  if (m.n > kPi * half * half) return false;
+  // Much less than the disc's recent area: the ball is partly hidden (behind
+  // the arm or the cup) and any centroid of it is pulled towards the visible
+  // part; none is better (the world model coasts). The area changes slowly
+  // along the path (perspective), so a running mean follows it.
+  if (disc_area_px_ > 0.0 && m.n < options_.hidden_area_fraction * disc_area_px_) {
+    out.found = false;
+    out.ball_centre = false;
+    out.hidden = true;
+    return false;
+  }
+  disc_area_px_ = disc_area_px_ > 0.0 ? 0.7 * disc_area_px_ + 0.3 * m.n : m.n;
+  out.found = true;
+  out.ball_centre = true;
+  out.from_background = true;
+  out.centroid_px = centre;
+  return true;
+}
+
+void MotionCentroid::update_background(const cv::Mat& frame, const MotionMeasurement& out,
+                                       bool moved) {
+  // The guard follows the ball's centre, but only motion renews its life: a
+  // disc against the reference alone could be something the reference kept
+  // (the guard would then keep it for ever).
+  if (out.found && out.centroid_px.allFinite()) {
+    // The box grows by the ball's image motion in one frame: a guard that
+    // lags the ball lets its leading edge into the reference, the next
+    // centre lags more, and the track falls behind (seen at 5-13 px).
+    guard_motion_px_ =
+        guard_centre_ && guard_age_ <= 1 ? (out.centroid_px - *guard_centre_).norm() : 0.0;
+    guard_centre_ = out.centroid_px;
+  }
+  if (moved && guard_centre_) {
+    guard_age_ = 0;
+  } else if (guard_centre_ && ++guard_age_ > options_.guard_frames) {
+    guard_centre_.reset();
+    disc_area_px_ = 0.0;  // the next ball starts elsewhere, at another range
+  }
+  if (!has_background_ || !guard_centre_) {
+    frame.copyTo(background_.raw);
+    has_background_ = true;
+  } else {
+    // Everything but the guard box: the board as last seen without the ball.
+    const double half = guard_half_px() + 2.0 + 1.5 * guard_motion_px_;
+    const cv::Rect box = cv::Rect(static_cast<int>(std::floor(guard_centre_->x() - half)),
+                                  static_cast<int>(std::floor(guard_centre_->y() - half)),
+                                  static_cast<int>(std::ceil(2.0 * half)) + 1,
+                                  static_cast<int>(std::ceil(2.0 * half)) + 1) &
+                         cv::Rect(0, 0, frame.cols, frame.rows);
+    const cv::Mat kept = background_.raw(box).clone();
+    frame.copyTo(background_.raw);
+    kept.copyTo(background_.raw(box));
+  }
+  background_.smoothed_rect = cv::Rect();
+}
+
+MotionMeasurement MotionCentroid::difference(const cv::Mat& frame,
+                                             const std::optional<cv::Rect>& window) {
   const auto t0 = Clock::now();
   const size_t slots = ring_.size();
   Frame& cur = ring_[static_cast<size_t>(frames_) % slots];

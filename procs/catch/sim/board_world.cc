@@ -214,8 +214,8 @@ BallState BoardWorld::state() const {
   return s;
 }
 
-ExitPrediction BoardWorld::predict_exit() const {
-  ExitPrediction out;
+SimulatedExit BoardWorld::predict_exit() const {
+  SimulatedExit out;
   if (!release_) throw std::logic_error("board world: predict_exit() before any release");
   if (exit_ || stalled_) {
     out.exit = exit_;

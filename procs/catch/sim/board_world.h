@@ -68,7 +68,7 @@ struct BoardExit {
 };
 
 // What predict_exit() foresees: the exit, or that the ball stalls.
-struct ExitPrediction {
+struct SimulatedExit {
   std::optional<BoardExit> exit;
   bool stalled = false;  // exit is empty: the ball never leaves within the limit
 };
@@ -104,7 +104,7 @@ class BoardWorld {
   // bit-identical to what this world will do - to the exit or the stall
   // limit, leaving this world untouched. Costs ~0.8 us per fixed step: about
   // 1.4 ms for a whole descent.
-  ExitPrediction predict_exit() const;
+  SimulatedExit predict_exit() const;
 
   // The ball's acceleration down the slope, 5/7 g sin(incline), mm/s^2.
   double slope_acceleration_mm_s2() const { return slope_accel_mm_s2_; }

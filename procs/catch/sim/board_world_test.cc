@@ -40,16 +40,16 @@ TEST(BoardWorldTest, PredictExitEqualsTheExitTheWorldReaches) {
     BoardWorld world(s);
     world.step(0.1);
     world.release(s.release(0));
-    const ExitPrediction at_release = world.predict_exit();
+    const SimulatedExit at_release = world.predict_exit();
     for (int i = 0; i < 20; ++i) world.step(kFrameS);
-    const ExitPrediction midway = world.predict_exit();
+    const SimulatedExit midway = world.predict_exit();
     const BallState before = world.state();
-    const ExitPrediction again = world.predict_exit();
+    const SimulatedExit again = world.predict_exit();
     EXPECT_EQ(before.position_b_mm, world.state().position_b_mm)
         << "prediction disturbed the world";
     run_to_exit(world);
     ASSERT_TRUE(world.exit().has_value()) << "seed " << seed;
-    for (const ExitPrediction* p : {&at_release, &midway, &again}) {
+    for (const SimulatedExit* p : {&at_release, &midway, &again}) {
       ASSERT_TRUE(p->exit.has_value()) << "seed " << seed;
       EXPECT_FALSE(p->stalled);
       EXPECT_EQ(p->exit->time_s, world.exit()->time_s) << "seed " << seed;
@@ -121,7 +121,7 @@ TEST(BoardWorldTest, BallWedgedBetweenPegsStalls) {
   config.stall_limit_s = 2.0;
   BoardWorld world(board, 0.4, {{285.0, 200.0}, {315.0, 200.0}}, 12.0, config);
   world.release(300.0, 100.0, 0.0, 0.0);
-  const ExitPrediction p = world.predict_exit();
+  const SimulatedExit p = world.predict_exit();
   EXPECT_TRUE(p.stalled);
   EXPECT_FALSE(p.exit.has_value());
   run_to_exit(world);
