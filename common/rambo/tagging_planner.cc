@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "common/rambo/reaching_planner.h"
@@ -168,6 +169,74 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
   s.status = s.goal_q ? "following diode " + cell_.diodes[static_cast<std::size_t>(task_)].name
                       : "goal out of reach";
   return s;
+}
+
+std::optional<TaggingTrajectory> TaggingPlanner::reaching_trajectory(
+    int diode, double now_s, const FittedMotion& motion, const arm::Joints& q,
+    const arm::Joints& qd, std::string* why, double limit_fraction) const {
+  if (diode < 0 || diode >= static_cast<int>(cell_.diodes.size()) || !motion.finite() ||
+      !q.allFinite() || !qd.allFinite()) {
+    if (why) *why = "no such diode, or a non-finite motion or arm state";
+    return std::nullopt;
+  }
+  ReachingOptions ro;
+  ro.limit_fraction = limit_fraction;
+  const ReachingPlanner reacher(arm_, ro);
+  const double hold_s = options_.required_s + options_.hold_margin_s;
+  const double horizon_s = ro.duration_max_s + hold_s + 1.0;
+  const SampledMotion sampled(motion, now_s, horizon_s + 1.0);
+  const double dt = 0.01;
+  const int n = static_cast<int>(std::ceil(horizon_s / dt)) + 1;
+  auto current = std::make_shared<const SampledJointTrajectory>(
+      SampledJointTrajectory::from_function(now_s, dt, n, [&](double t) {
+        JointSample js;
+        js.q = q + qd * (t - now_s);
+        js.qd = qd;
+        return js;
+      }));
+  const Eigen::Isometry3d goal_in_target = cell_.goal_in_target(diode);
+  const Eigen::Vector3d centre = cell_.model.centre();
+  TargetSphere sphere;
+  sphere.centre_mm = [&](double t) { return sampled.pose(t) * centre; };
+  sphere.radius_mm = cell_.model.bounding_radius_mm();
+  const ReachingPlan plan = reacher.plan(
+      current, [&](double t) { return sampled.pose(t) * goal_in_target; }, now_s, horizon_s,
+      &sphere, hold_s);
+  if (!plan.feasible()) {
+    if (why) *why = plan.reason.empty() ? to_string(plan.status) : plan.reason;
+    return std::nullopt;
+  }
+  TaggingTrajectory out;
+  out.diode = diode;
+  out.t0_s = now_s;
+  out.t_land_s = plan.t_land_s;
+  out.durations_tried = plan.durations_tried;
+  out.via_intermediate_goal = plan.status == ReachingStatus::kViaIntermediateGoal;
+  out.hold_end_s = plan.t_land_s + hold_s;
+  const int samples = static_cast<int>(std::ceil((out.hold_end_s - now_s) / out.dt_s)) + 1;
+  for (int k = 0; k < samples; ++k)
+    out.samples.push_back(plan.at(now_s + out.dt_s * static_cast<double>(k)));
+  out.hold_end_s = out.end_s();
+  // The stop: every joint at constant deceleration, all at rest together.
+  const JointSample last = plan.at(out.hold_end_s);  // = the last sample
+  const arm::JointLimits& lim = arm_.limits();
+  double stop_s = 0.0;
+  for (int j = 0; j < 6; ++j)
+    stop_s = std::max(stop_s, std::abs(last.qd[j]) / (0.5 * lim.qdd_max[j]));
+  const int stop_samples = static_cast<int>(std::ceil(stop_s / out.dt_s));
+  if (stop_samples > 0) {
+    const double stop_total_s = out.dt_s * static_cast<double>(stop_samples);
+    const arm::Joints decel = last.qd / stop_total_s;
+    for (int k = 1; k <= stop_samples; ++k) {
+      const double t = out.dt_s * static_cast<double>(k);
+      JointSample js;
+      js.q = last.q + last.qd * t - 0.5 * decel * t * t;
+      js.qd = last.qd - decel * t;
+      js.qdd = -decel;
+      out.samples.push_back(js);
+    }
+  }
+  return out;
 }
 
 }  // namespace ephor::rambo

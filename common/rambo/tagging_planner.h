@@ -23,6 +23,7 @@
 #include <Eigen/Geometry>
 
 #include "common/arm/puma560.h"
+#include "common/rambo/joint_trajectory.h"
 #include "common/rambo/rambo_cell.h"
 
 namespace ephor::rambo {
@@ -58,6 +59,23 @@ struct TaggingStep {
   bool reordered = false;
 };
 
+// A reaching trajectory as the arm executes it (sections 8-9): from the
+// arm's state onto a goal point's predicted trajectory in the shortest
+// duration within the joint limits, then that goal point followed in joint
+// space for the hold, so the tagging joint moves with the diode while the
+// laser holds on it. Sampled every dt_s from t0_s (wall clock, s).
+struct TaggingTrajectory {
+  int diode = -1;
+  double t0_s = 0.0;
+  double dt_s = 0.05;
+  std::vector<JointSample> samples;
+  double t_land_s = 0.0;    // on the goal point's trajectory (wall clock, s)
+  double hold_end_s = 0.0;  // off it again: then a stop at half the acceleration limits
+  int durations_tried = 0;  // section 9's columns computed
+  bool via_intermediate_goal = false;
+  double end_s() const { return t0_s + dt_s * static_cast<double>(samples.size() - 1); }
+};
+
 class TaggingPlanner {
  public:
   TaggingPlanner(const RamboCell& cell, TaggingOptions options = {});
@@ -67,6 +85,21 @@ class TaggingPlanner {
                    const arm::Joints& current_q);
 
   int current_task() const { return task_; }
+
+  // The reaching trajectory for `diode` from the arm at (q, qd) at now_s
+  // (rad, rad/s; extrapolated at constant velocity), starting at now_s:
+  // section 9's scan for the shortest duration within limit_fraction of
+  // the joint velocity and acceleration limits, clear of the target's
+  // bounding sphere (a safe intermediate goal when the direct one hits it),
+  // then the hold (required_s + hold_margin_s) on the goal point's
+  // trajectory, then a stop (each joint slowed to rest at half its
+  // acceleration limit; the arm's servo would otherwise stop it at once).
+  // nullopt, with why, when no duration up to 6 s works.
+  std::optional<TaggingTrajectory> reaching_trajectory(int diode, double now_s,
+                                                       const FittedMotion& motion,
+                                                       const arm::Joints& q, const arm::Joints& qd,
+                                                       std::string* why,
+                                                       double limit_fraction = 0.8) const;
 
  private:
   std::optional<arm::Joints> goal_joints(int diode, const FittedMotion& m, double t_s,

@@ -128,5 +128,65 @@ TEST(TaggingPlanner, OrdersEightDiodesOfTheModelFile) {
   EXPECT_TRUE(s.goal_q.has_value());
 }
 
+// The reaching trajectory the arm executes (sections 8-9): it starts where
+// the arm is, stays within the share of the joint limits it was planned for
+// (checked as the arm checks it: speeds, and accelerations from the speeds
+// of neighbouring samples), lands on the goal point's trajectory and then
+// holds the beam in the diode's lens for the hold.
+TEST(TaggingPlanner, ReachingTrajectoryStartsAtTheArmAndHoldsTheBeamOnTheDiode) {
+  const RamboCell cell = RamboCell::make(4);
+  TumblingMotion m = cell.draw_motion(3, 2.0, 1.0);
+  m.pose0.linear().setIdentity();
+  FittedMotion f;
+  f.t_ref_s = 100.0;
+  f.position_mm = m.pose0.translation();
+  f.velocity_mm_s = m.velocity_mm_s;
+  f.orientation = Eigen::Quaterniond::Identity();
+  f.body_rates_rad_s = Eigen::Vector3d(0.0, 0.0, 0.03);  // 1.7 deg/s
+  f.principal_moments = cell.principal_moments;
+  const TaggingPlanner planner(cell);
+  const arm::Puma560 arm(cell.tool_length_mm);
+  const arm::JointLimits& lim = arm.limits();
+  arm::Joints qd = arm::Joints::Zero();
+  qd[0] = 0.1;  // the arm still turning a little
+  std::string why;
+  const auto t = planner.reaching_trajectory(0, 100.0, f, cell.start_joints, qd, &why);
+  ASSERT_TRUE(t.has_value()) << why;
+  ASSERT_GE(t->samples.size(), 10u);
+  EXPECT_LT((t->samples.front().q - cell.start_joints).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((t->samples.front().qd - qd).cwiseAbs().maxCoeff(), 1e-6);
+  for (std::size_t k = 0; k < t->samples.size(); ++k) {
+    const auto& s = t->samples[k];
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_LE(std::abs(s.qd[j]), 0.8 * lim.qd_max[j] + 1e-6) << "sample " << k << " joint " << j;
+      if (k > 0) {
+        const double qdd = (s.qd[j] - t->samples[k - 1].qd[j]) / t->dt_s;
+        EXPECT_LE(std::abs(qdd), lim.qdd_max[j]) << "sample " << k << " joint " << j;
+      }
+    }
+  }
+  // From landing to the end (the hold: required 1 s + 1 s margin) the beam
+  // is in the lens.
+  EXPECT_NEAR(t->hold_end_s - t->t_land_s, 2.0, t->dt_s + 1e-9);
+  // Then it stops: at rest at the end.
+  EXPECT_LT(t->samples.back().qd.cwiseAbs().maxCoeff(), 1e-9);
+  DiodeIndicator ind(cell.diodes, 5.0, 12.0, 1.0);
+  int lit = 0, after_landing = 0;
+  for (std::size_t k = 0; k < t->samples.size(); ++k) {
+    const double ts = t->t0_s + t->dt_s * static_cast<double>(k);
+    if (ts < t->t_land_s + 1e-9 || ts > t->hold_end_s + 1e-9) continue;
+    ++after_landing;
+    const Eigen::Isometry3d tool = arm.forward(t->samples[k].q);
+    lit += ind.read(0, f.pose(ts), tool.translation(), tool.linear().col(2)).lit ? 1 : 0;
+  }
+  EXPECT_GE(after_landing, 39);
+  EXPECT_EQ(lit, after_landing);
+  // A bad diode or arm state: no trajectory, with the reason.
+  arm::Joints nan_q = cell.start_joints;
+  nan_q[2] = std::nan("");
+  EXPECT_FALSE(planner.reaching_trajectory(0, 100.0, f, nan_q, qd, &why));
+  EXPECT_FALSE(why.empty());
+}
+
 }  // namespace
 }  // namespace ephor::rambo

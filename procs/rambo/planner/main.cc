@@ -1,19 +1,21 @@
 // ephor-rambo-planner: RAMBO's robot motion planner for laser tagging (paper
 // sections 7-10) over TaggingPlanner: orders the untagged diodes (greedy,
-// exhaustive, dynamic programming; the DP order is followed) and streams the
-// joint goal that holds the laser on the current diode's predicted goal point
-// a short lead ahead. The shared comm (newest goal wins) and arm carry them
-// out; the target's indicator says which diodes are done.
+// exhaustive, dynamic programming; the DP order is followed) and, for the
+// current diode, sends the arm the reaching trajectory (sections 8-9: the
+// shortest within the joint limits onto the diode's predicted goal-point
+// trajectory, then that trajectory followed for the hold) as one
+// KIND_TRAJECTORY goal, which the shared arm checks against its limits and
+// executes as given; when it ends with the diode not tagged, a new one from
+// where the arm is. --reach goals streams point-to-point joint goals a short
+// lead ahead instead (the earlier way). The shared comm (newest goal wins)
+// and arm carry them out; the target's indicator says which diodes are done.
 //
 //   subscribes  RAMBO_PREDICTION (rambo_prediction_t), RAMBO_INDICATOR
 //               (rambo_indicator_t), ARM_STATE (arm_state_t)
-//   publishes   ARM_GOAL (arm_goal_t, KIND_JOINTS), RAMBO_PLAN (rambo_plan_t)
+//   publishes   ARM_GOAL (arm_goal_t, KIND_TRAJECTORY or KIND_JOINTS), RAMBO_PLAN (rambo_plan_t)
 //   tasks       plan (periodic, --period-ms)
-//
-// Not the paper's yet: the arm executes point-to-point goals, not the
-// section 8-9 reaching trajectories (the shared ephor-arm takes no joint
-// trajectory from a planner); see common/rambo/tagging_planner.h.
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <iostream>
@@ -40,6 +42,12 @@
 #include "ephor/rambo_indicator_t.hpp"
 #include "ephor/rambo_plan_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
+
+namespace {
+// ARM_GOAL to the arm's servo through comm, about: a reaching trajectory
+// starts where the arm will be then, s.
+constexpr double kLatencyS = 0.03;
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -69,6 +77,17 @@ int main(int argc, char** argv) {
                  "the arm is at its goal within this, rad: refresh the goal every period (0.03)");
   app.add_option("--resend-rad", resend_rad,
                  "before that, send again only when the goal moved this far, rad (0.1)");
+  std::string reach = "trajectory";
+  double limit_fraction = 0.8;
+  app.add_option(
+         "--reach", reach,
+         "trajectory (the reaching trajectory of sections 8-9 and the hold, executed by the "
+         "arm as given) or goals (point-to-point joint goals every period)")
+      ->check(CLI::IsMember({"trajectory", "goals"}));
+  app.add_option("--limit-fraction", limit_fraction,
+                 "reaching trajectories use this share of the joint speed and acceleration limits "
+                 "(0.8)")
+      ->check(CLI::Range(0.1, 1.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
@@ -81,7 +100,13 @@ int main(int argc, char** argv) {
     std::mutex mutex;
     std::optional<FittedMotion> motion;
     int64_t motion_utime = 0;
-    std::optional<arm::Joints> q_now;
+    std::optional<arm::Joints> q_now, qd_now;
+    // The reaching trajectory sent last: its diode and when it ends (wall
+    // clock, us); none is sent while it runs.
+    int trajectory_task = -2;
+    int64_t trajectory_end_utime = 0, trajectory_land_utime = 0, trajectory_motion_utime = 0;
+    int64_t state_utime = 0;  // of q_now, qd_now
+    std::atomic<int64_t> trajectories{0}, trajectory_failures{0};
     std::vector<bool> tagged(static_cast<std::size_t>(diodes), false);
     std::atomic<int64_t> goals{0}, bad{0};
     const int64_t run_id = wall_us();
@@ -125,10 +150,13 @@ int main(int argc, char** argv) {
     });
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
       arm::Joints q;
-      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
-      if (!q.allFinite()) return;
+      arm::Joints qd;
+      for (int j = 0; j < 6; ++j) q[j] = m.q[j], qd[j] = m.qd[j];
+      if (!q.allFinite() || !qd.allFinite()) return;
       std::lock_guard<std::mutex> lock(mutex);
       q_now = q;
+      qd_now = qd;
+      state_utime = m.utime;
     });
 
     runtime.add_periodic(
@@ -174,11 +202,55 @@ int main(int argc, char** argv) {
             }
           }
           plan.num_tasks = static_cast<int32_t>(plan.order.size());
+          // Reaching trajectories: one per diode, a new one only when the
+          // last has ended (its hold over) and the diode is still open.
+          std::optional<TaggingTrajectory> reaching;
+          if (goal && reach == "trajectory") {
+            std::lock_guard<std::mutex> lock(mutex);
+            const int64_t now = wall_us();
+            // On the diode's goal point (landed, holding), a newer
+            // prediction re-plans from where the arm is: the hold follows
+            // the newest motion. Not while reaching: the arm is fast then,
+            // and a trajectory must start where the arm is.
+            const bool holding = plan.current_task == trajectory_task &&
+                                 now >= trajectory_land_utime && now < trajectory_end_utime;
+            if (plan.current_task == trajectory_task && now < trajectory_end_utime &&
+                !(holding && motion_utime != trajectory_motion_utime)) {
+              goal.reset();  // the arm is on it
+            } else {
+              std::string why;
+              // Starts where the arm will be when it gets it: the state
+              // extrapolated to now + the relay's latency.
+              const double t0_s = static_cast<double>(now) * 1e-6 + kLatencyS;
+              const double ahead_s = t0_s - static_cast<double>(state_utime) * 1e-6;
+              const arm::Joints q0 = *q_now + *qd_now * std::clamp(ahead_s, 0.0, 0.2);
+              reaching = planner.reaching_trajectory(plan.current_task, t0_s, *motion, q0, *qd_now,
+                                                     &why, limit_fraction);
+              if (reaching) {
+                trajectory_task = plan.current_task;
+                trajectory_end_utime = std::llround(reaching->end_s() * 1e6);
+                trajectory_land_utime = std::llround(reaching->t_land_s * 1e6);
+                trajectory_motion_utime = motion_utime;
+                spdlog::info(
+                    "reaching trajectory to diode {}: lands in {:.2f} s{} ({} durations tried), "
+                    "then {:.1f} s on the goal point",
+                    cell.diodes[static_cast<std::size_t>(plan.current_task)].name,
+                    reaching->t_land_s - reaching->t0_s,
+                    reaching->via_intermediate_goal ? " via a safe intermediate goal" : "",
+                    reaching->durations_tried, reaching->hold_end_s - reaching->t_land_s);
+              } else {
+                // The point-to-point goal below instead.
+                if (++trajectory_failures % 10 == 1)
+                  spdlog::warn("no reaching trajectory to diode {} ({}): a joint goal instead",
+                               plan.current_task, why);
+              }
+            }
+          }
           // Each goal makes the arm plan anew from rest: while it is still
           // on its way, a goal that has barely moved is not sent again (it
           // would only slow the reach down); once the arm is there, the goal
           // is refreshed every period so that the laser follows the diode.
-          if (goal) {
+          if (goal && !reaching) {
             std::lock_guard<std::mutex> lock(mutex);
             const bool arrived =
                 sent_goal && q_now && (*q_now - *sent_goal).cwiseAbs().maxCoeff() < arrive_rad;
@@ -197,6 +269,19 @@ int main(int argc, char** argv) {
             g.goal_id = run_id + goals;
             g.kind = arm_goal_t::KIND_JOINTS;
             for (int j = 0; j < 6; ++j) g.joints_rad[j] = (*goal)[j];
+            if (reaching) {
+              g.kind = arm_goal_t::KIND_TRAJECTORY;
+              for (std::size_t k = 0; k < reaching->samples.size(); ++k) {
+                const JointSample& js = reaching->samples[k];
+                g.traj_t_s.push_back(static_cast<float>(reaching->dt_s * static_cast<double>(k)));
+                g.traj_q_rad.emplace_back(js.q.data(), js.q.data() + 6);
+                g.traj_qd_rad_s.emplace_back(js.qd.data(), js.qd.data() + 6);
+              }
+              g.num_points = static_cast<int32_t>(g.traj_t_s.size());
+              const arm::Joints& last = reaching->samples.back().q;
+              for (int j = 0; j < 6; ++j) g.joints_rad[j] = last[j];
+              ++trajectories;
+            }
             g.max_speed_mm_s = 0.0f;
             g.source_frame_utime = source_utime;
             g.target_object = plan.current_task;
@@ -212,7 +297,8 @@ int main(int argc, char** argv) {
                  options.lead_s);
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} goals sent, {} bad messages", goals.load(), bad.load());
+    spdlog::info("summary: {} goals sent ({} reaching trajectories), {} bad messages", goals.load(),
+                 trajectories.load(), bad.load());
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-planner: " << e.what() << "\n";
