@@ -224,7 +224,7 @@ void WorldModel::stage2_obscured(const std::vector<Eigen::Vector2d>& blobs,
         std::min(config_.obscured_gate_max_px,
                  config_.obscured_gate_px + config_.obscured_gate_growth_px_s * hidden_s);
     obscured.push_back(&t);
-    predictions.push_back({dead_reckoned(t), gate});
+    predictions.push_back({dead_reckoned(t), gate, t.seen_px});
   }
   // Two coasting objects on one large blob: still merged, keep coasting.
   for (size_t b = 0; b < blobs.size(); ++b) {

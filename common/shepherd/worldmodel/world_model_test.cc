@@ -255,7 +255,11 @@ TEST(WorldModelTest, SlowSheepHiddenLongUnderTheToolAndTurnedKeepsItsId) {
 }
 
 TEST(WorldModelTest, Stage4NewSheepEnteringGetsANewIdAndIdsAreNeverReused) {
-  auto wm = make_model();
+  // A shorter time to death than the default, so that b (30 mm/s) is still
+  // on the field when a is forgotten.
+  WorldModelConfig c;
+  c.max_obscured_s = 30.0;
+  auto wm = make_model(c);
   std::mt19937 rng(6);
   const Sheep a{{150, 200}, {kSpeed, 0}};
   feed(wm, {a}, 0, 30, rng);
@@ -265,7 +269,6 @@ TEST(WorldModelTest, Stage4NewSheepEnteringGetsANewIdAndIdsAreNeverReused) {
   EXPECT_EQ(nearest(wm, b.at(59))->id, 2);
   // Sheep a vanishes for good (lost after max_obscured_s); a later newcomer
   // where it was is not given its id back.
-  const WorldModelConfig c;
   const int end = 60 + static_cast<int>((c.max_obscured_s + c.report_dead_s + 0.5) * 30);
   feed(
       wm, {a, b}, 60, end, [](size_t i, int) { return i == 0; }, rng);
@@ -395,6 +398,27 @@ TEST(WorldModelTest, BirthNearAHiddenObjectIsReportedWithDistanceAndGate) {
   far.blobs.push_back({{600, 400}, kArea});
   wm.process(far);
   for (const auto& e : wm.take_events()) EXPECT_EQ(e.find("object 3 born"), std::string::npos) << e;
+}
+
+// Issue 13, a recorded run: a sheep walked along under the parked arm for
+// 42 s and came out turned round, near where it went under. It keeps its id.
+TEST(WorldModelTest, ASheepHiddenUnderTheArmForFortySecondsAndTurnedKeepsItsId) {
+  auto wm = make_model();
+  std::mt19937 rng(12);
+  const Sheep going{{300, 200}, {3.0, 0}};  // 8 mm/s is about 3 px/s
+  feed(wm, {going}, 0, 60, rng);
+  const int back = 60 + 42 * 30;
+  const Sheep returning{
+      going.at(60) + Eigen::Vector2d(-15, 10) - Eigen::Vector2d(-3.0, 0) * (back / 30.0),
+      {-3.0, 0}};
+  feed(
+      wm, {returning}, 60, back, [](size_t, int) { return true; }, rng);
+  feed(wm, {returning}, back, back + 30, rng);
+  const auto o = nearest(wm, returning.at(back + 29));
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->id, 1);
+  EXPECT_EQ(o->state, ObjectState::kVisible);
+  EXPECT_EQ(wm.counters().objects_created, 1);
 }
 
 TEST(WorldModelTest, TwoSheepCrossingPathsKeepTheirIds) {
