@@ -411,6 +411,36 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
         std::sqrt(std::max(0.0, ev[0]) / static_cast<double>(r.matched_vertices.size()));
     if (thickness_mm < 0.02 * model_.bounding_radius_mm())
       return "its " + std::to_string(r.correspondences) + " image points are one face";
+    // The target turned half round about one of its axes through the
+    // centre: a box-like target's near-symmetry, which fits every view
+    // that does not show what breaks it (the cut corner).
+    // About the middle of the bounding box (a cut corner moves the vertex
+    // centroid off the box's centre).
+    Eigen::Vector3d lo = verts.front(), hi = verts.front();
+    for (const auto& v : verts) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    const Eigen::Vector3d middle = 0.5 * (lo + hi);
+    for (int axis = 0; axis < 3; ++axis) {
+      const Eigen::Isometry3d alt = r.target_in_camera * Eigen::Translation3d(middle) *
+                                    Eigen::AngleAxisd(M_PI, Eigen::Vector3d::Unit(axis)) *
+                                    Eigen::Translation3d(-middle);
+      const std::vector<bool> vis = model_.visible_vertices(alt.inverse().translation());
+      int fit = 0;
+      double ss = 0.0;
+      for (const auto& pt : points) {
+        double bd = options_.final_gate_px;
+        for (int v = 0; v < nv; ++v) {
+          if (!vis[static_cast<std::size_t>(v)]) continue;
+          const Eigen::Vector3d pc = alt * verts[static_cast<std::size_t>(v)];
+          if (pc.z() <= 1.0) continue;
+          bd = std::min(bd, (camera_.project(pc) - pt).norm());
+        }
+        if (bd < options_.final_gate_px) ++fit, ss += bd * bd;
+      }
+      const double rms = fit > 0 ? std::sqrt(ss / fit) : 0.0;
+      if (fit >= r.correspondences && rms <= 1.5 * r.rms_reprojection_px + 0.5)
+        return "the target turned half round fits its " + std::to_string(r.correspondences) +
+               " image points as well";
+    }
     for (std::size_t j = 0; j < cands.size(); ++j) {
       const TrianglePoseResult& o = cands[j];
       if (j == i || o.correspondences < r.correspondences) continue;

@@ -33,8 +33,10 @@
 // Ambiguous views (beyond the paper): a pose is kept on its own only when
 // at least min_correspondences_alone image points fit it, their model
 // vertices are not all in one plane (a view of one face of a box-like
-// target: the face turned half round fits as well) and no other candidate
-// fits as many points about as well. Otherwise it is "no pose" without a
+// target: the face turned half round fits as well), the target turned half
+// round about one of its axes through the centre does not fit them as well
+// (a box's symmetry, broken only where the cut corner is seen) and no
+// other candidate fits as many points about as well. Otherwise it is "no pose" without a
 // prior and, with one, kept only when it agrees with the prior
 // (prior_agree_mm of the centre, prior_agree_deg). A pose that stands on its
 // own is kept even far from the prior: the prior may be the one that is

@@ -211,6 +211,26 @@ TEST(TrianglePoseEstimator, AViewOfOneFaceIsAmbiguousWithoutAPrior) {
   EXPECT_NE(none.reason.find("from the prior"), std::string::npos) << none.reason;
 }
 
+// A plain box seen on a corner (three faces, seven vertices, not one
+// plane): the box turned half round about its axes fits as well, so no pose
+// on its own; the cut box shows its cut corner in the same view and has one.
+TEST(TrianglePoseEstimator, ASymmetricViewOfAPlainBoxIsAmbiguous) {
+  const CameraIntrinsics cam;
+  const TargetModel plain =
+      TargetModel::truncated_box(140, 100, 70, Eigen::Vector3d(0.5, 0.5, 0.5));
+  const auto triples = synthetic_image_triples(plain, cam, true_pose(), 0.0, nullptr);
+  ASSERT_GE(triples.size(), 12u);
+  const TrianglePoseResult r =
+      TrianglePoseEstimator(plain, cam, TrianglePoseOptions{}).estimate(triples);
+  EXPECT_FALSE(r.found);
+  EXPECT_NE(r.reason.find("half round"), std::string::npos) << r.reason;
+  const auto cut = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  const TrianglePoseResult c =
+      TrianglePoseEstimator(box(), cam, TrianglePoseOptions{}).estimate(cut);
+  ASSERT_TRUE(c.found) << c.reason;
+  EXPECT_FALSE(c.ambiguous);
+}
+
 // One triple, three image points: up to four P3P poses, never one on its
 // own; a prior picks the true one. (One triple gives one vote per pose:
 // min_cluster_size 1 lets it through the clustering.)
