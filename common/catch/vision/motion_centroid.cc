@@ -235,6 +235,11 @@ bool MotionCentroid::centre_on_background(Frame& cur, const cv::Rect& roi,
   // the arm or the cup) and any centroid of it is pulled towards the visible
   // part; none is better (the world model coasts). The area changes slowly
   // along the path (perspective), so a running mean follows it.
+  // The recent area is this ball's only while the discs follow each other:
+  // a disc far from the last one, or after a few frames without one, is
+  // another ball (or this one at another range) and starts a new mean.
+  const Eigen::Vector2d here(m.sx / m.n, m.sy / m.n);
+  if (frames_ - disc_frame_ > 3 || (here - disc_centre_).norm() > 2.0 * half) disc_area_px_ = 0.0;
   if (disc_area_px_ > 0.0 && m.n < options_.hidden_area_fraction * disc_area_px_) {
     out.found = false;
     out.ball_centre = false;
@@ -242,6 +247,8 @@ bool MotionCentroid::centre_on_background(Frame& cur, const cv::Rect& roi,
     return false;
   }
   disc_area_px_ = disc_area_px_ > 0.0 ? 0.7 * disc_area_px_ + 0.3 * m.n : m.n;
+  disc_centre_ = here;
+  disc_frame_ = frames_;
   out.found = true;
   out.ball_centre = true;
   out.from_background = true;
@@ -266,7 +273,6 @@ void MotionCentroid::update_background(const cv::Mat& frame, const MotionMeasure
     guard_age_ = 0;
   } else if (guard_centre_ && ++guard_age_ > options_.guard_frames) {
     guard_centre_.reset();
-    disc_area_px_ = 0.0;  // the next ball starts elsewhere, at another range
   }
   if (!has_background_ || !guard_centre_) {
     frame.copyTo(background_.raw);

@@ -133,6 +133,8 @@ class MotionCentroid : public MotionDetector {
   int guard_age_ = 0;
   double guard_motion_px_ = 0.0;  // the centre's motion over the last frame, px
   double disc_area_px_ = 0.0;     // running mean of the disc's area against the reference
+  Eigen::Vector2d disc_centre_ = Eigen::Vector2d::Zero();  // the last disc's centre, px
+  long disc_frame_ = -100;                                 // and its frame (frames_)
 };
 
 // Displacement (px) between two positions of a disc of radius r (px) whose

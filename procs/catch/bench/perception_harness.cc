@@ -78,9 +78,10 @@ int main(int argc, char** argv) {
   CLI::App app{"ephor-catch-harness: catching perception in simulated time against the truth"};
   uint64_t seed = 1;
   int balls = 10;
-  double tolerance_mm = 30.0, gap_s = 1.0;
+  double tolerance_mm = 30.0, gap_s = 1.0, pixel_sigma_px = 0.5, accel_sigma_y = 200.0,
+         bounce_nis = 16.0;
   bool verbose = false, no_pegs = false, known_radius = false, park = false, true_centre = false,
-       no_background = false;
+       no_background = false, arm_moves = false;
   std::string json_path, board_path = "deploy/catch/board.pbtxt",
                          workcell_path = "deploy/catch/workcell.pbtxt";
   app.add_option("--seed", seed, "scenario seed (default 1)");
@@ -91,6 +92,12 @@ int main(int argc, char** argv) {
   app.add_option("--gap-s", gap_s, "frames without a ball between balls, s (default 1)")
       ->check(CLI::Range(0.1, 60.0));
   app.add_flag("--verbose", verbose, "one line per frame");
+  app.add_option("--pixel-sigma-px", pixel_sigma_px, "world model's centroid noise (default 0.5)")
+      ->check(CLI::Range(0.01, 100.0));
+  app.add_option("--accel-sigma-y", accel_sigma_y, "Kalman accel noise down the slope, mm/s^2")
+      ->check(CLI::Range(0.0, 100000.0));
+  app.add_option("--bounce-nis", bounce_nis, "Kalman bounce NIS threshold (default 16)")
+      ->check(CLI::Range(0.0, 1000.0));
   app.add_flag("--no-pegs", no_pegs, "the world model does not know the pegs");
   app.add_flag("--known-radius", known_radius,
                "give the vision the ball's image radius from the pose (the offline tracker's way)");
@@ -98,6 +105,8 @@ int main(int argc, char** argv) {
                "feed the world model the ball centre's true projection (the vision's ceiling)");
   app.add_flag("--no-background", no_background,
                "centre on the crescents only, not on the disc against the reference image");
+  app.add_flag("--arm-moves", arm_moves,
+               "the arm swings back to the ready point in view between balls (as after a catch)");
   app.add_flag("--park", park, "the arm parked out of view instead of at the ready point");
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--workcell", workcell_path, "work cell file");
@@ -117,7 +126,7 @@ int main(int argc, char** argv) {
 
     // Start-up as ephor-catch-vision: ten frames of the still board, arm parked.
     const ArmView parked = cell.arm_view(cell.park_joints());
-    const ArmView arm = park ? parked : cell.arm_view(cell.ready_joints());
+    ArmView arm = park ? parked : cell.arm_view(cell.ready_joints());
     std::vector<cv::Mat> init;
     for (int i = 0; i < 10; ++i) {
       renderer.render(std::nullopt, parked, image);
@@ -152,6 +161,9 @@ int main(int argc, char** argv) {
                             BallWindowOptions{24.0, 1.0 / 30.0, 0.1});
     BallWorldModelParams params;
     params.acquire_max_y_mm = 150.0;
+    params.pixel_sigma_px = pixel_sigma_px;
+    params.filter.accel_sigma_y_mm_s2 = accel_sigma_y;
+    params.filter.bounce_nis_threshold = bounce_nis;
     BallWorldModel model(board, scenario.placement, intrinsics, pose.board_to_camera, params);
     if (!no_pegs) {
       // The pegs as ephor-catch-sim publishes them: 0.5 mm of noise, its seed.
@@ -273,7 +285,21 @@ int main(int argc, char** argv) {
                 << " mm at y " << score.max_error_y_mm << "; tracked " << score.tracked << "/"
                 << score.frames << "\n";
       scores.push_back(score);
-      advance(t + gap_s, ignore);
+      if (arm_moves) {
+        // The arm comes back from a catch beside the board to the ready
+        // point through the camera's view in the first 0.6 s of the gap.
+        const double gap_start = t;
+        arm::Joints away = cell.ready_joints();
+        away[0] += (k % 2 == 0 ? 0.35 : -0.35);
+        while (t < gap_start + gap_s) {
+          const double f = std::min(1.0, (t - gap_start) / 0.6);
+          arm = cell.arm_view(away + f * (cell.ready_joints() - away));
+          advance(t + frame_s, ignore);
+        }
+        arm = cell.arm_view(cell.ready_joints());
+      } else {
+        advance(t + gap_s, ignore);
+      }
     }
 
     int lead05 = 0, lead06 = 0, lead07 = 0, wrong = 0;
