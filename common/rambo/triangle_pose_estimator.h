@@ -63,7 +63,7 @@ struct TrianglePoseOptions {
   double refine_gate_px = 12.0;       // first matching of image points to projected vertices
   double final_gate_px = 3.0;         // second matching, after the first refinement
   double prior_gate_px = 25.0;        // pruning with a prior pose
-  int min_correspondences_alone = 4;  // image points a pose needs without a prior's support
+  int min_correspondences_alone = 5;  // image points a pose needs without a prior's support
   double prior_agree_mm = 30.0;       // a weaker pose's centre this near the prior's
   double prior_agree_deg = 10.0;      // and its attitude this near
 };

@@ -2,7 +2,8 @@
 // as a user runs it, in a private network namespace: the simulator's slowly
 // tumbling target (2 deg/s), pose from the image triples the features
 // process finds in its rendered frames (the manifest's default), the
-// rigid-body predictor, the planner and the shared comm and arm. A listener
+// rigid-body predictor, the planner (reaching trajectories, which the arm
+// must have executed) and the shared comm and arm. A listener
 // on the same bus checks that the laser tags at least one diode within 80 s,
 // that poses are often found and close to the truth (no wrong pose of an
 // ambiguous view: p99 under 50 mm), and that bad input
@@ -115,6 +116,8 @@ TEST(Rambo, HeadlessRunTagsADiodeOfASlowlyTumblingTarget) {
   EXPECT_TRUE(tagged) << "no diode tagged in 80 s";
   EXPECT_TRUE(p.has_line("launch", "RAMBO_PREDICTION from rambo-test ignored: not finite"));
   EXPECT_TRUE(p.has_line("launch", "RAMBO_FEATURES frame 999999 from rambo-test refused"));
+  // The planner's reaching trajectories, executed by the shared arm as given.
+  EXPECT_TRUE(p.has_line("launch", "given trajectory move")) << "no reaching trajectory executed";
   {
     std::lock_guard<std::mutex> lock(heard.mutex);
     std::fprintf(stderr, "%d poses (%d found), %d predictions, %d tagged\n", heard.poses,
