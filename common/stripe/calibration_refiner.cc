@@ -89,6 +89,7 @@ CalibrationRefinement CalibrationRefiner::refine(CalibrationRig& rig, const True
     approaches.emplace_back(std::sin(tilt) * std::cos(az), std::sin(tilt) * std::sin(az),
                             std::cos(tilt));
   }
+  std::vector<Eigen::Isometry3d> stripe_flanges;
   for (const Eigen::Vector2d& centre : options_.centres_mm)
     for (const Eigen::Vector3d& approach : approaches)
       for (int along = 0; along < 2; ++along)
@@ -97,22 +98,24 @@ CalibrationRefinement CalibrationRefiner::refine(CalibrationRig& rig, const True
               along == 0 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
           const Eigen::Isometry3d s = projector_looking_at(
               Eigen::Vector3d(centre.x(), centre.y(), 0.0), approach, dist, hint);
-          const auto q = cell_.joints_for(flange_for_projector(s, current), near,
-                                          model.errors().zero_offset_rad);
-          if (!q) continue;
-          near = *q;
-          const Stripe stripe = extractor.extract(rig.stripe_image(*q));
-          TableStripeView v{*q, {}};
-          for (size_t i = 0; i < stripe.points.size();
-               i += static_cast<size_t>(std::max(1, options_.rows_step)))
-            v.points_px.emplace_back(stripe.points[i].u_px, stripe.points[i].row);
-          if (!v.points_px.empty()) views.push_back(std::move(v));
+          stripe_flanges.push_back(flange_for_projector(s, current));
         }
+  for (const auto& [index, q] :
+       visiting_order(cell_, stripe_flanges, near, model.errors().zero_offset_rad,
+                      options_.order_for_travel)) {
+    near = q;
+    const Stripe stripe = extractor.extract(rig.stripe_image(q));
+    TableStripeView v{rig.readings(q), {}};
+    for (size_t i = 0; i < stripe.points.size();
+         i += static_cast<size_t>(std::max(1, options_.rows_step)))
+      v.points_px.emplace_back(stripe.points[i].u_px, stripe.points[i].row);
+    if (!v.points_px.empty()) views.push_back(std::move(v));
+  }
   // The spot from the working configuration.
   std::vector<SpotSighting> all_spots;
   if (options_.use_all_branch_sightings) all_spots = spots;
   const Eigen::Vector3d spot(spot_guess_mm.x(), spot_guess_mm.y(), 0.0);
-  near = StripeWorkcell::reference_joints();
+  std::vector<Eigen::Isometry3d> spot_flanges;
   int pose = 0;
   for (double dist : options_.spot_distances_mm)
     for (int a = 0; a <= options_.spot_azimuths; ++a)
@@ -131,14 +134,19 @@ CalibrationRefinement CalibrationRefiner::refine(CalibrationRig& rig, const True
         const double r = az + roll_deg * kDeg + std::numbers::pi / 2;
         const Eigen::Isometry3d cam =
             look_at(eye, aim, Eigen::Vector3d(std::cos(r), std::sin(r), 0.0));
-        const auto q = cell_.joints_for(cam * current.camera_in_flange.inverse(), near,
-                                        model.errors().zero_offset_rad);
-        if (!q) continue;
-        const auto px = find_spot(rig.spot_image(*q));
-        if (!px) continue;
-        const double q2 = (*q)[1] + model.errors().zero_offset_rad[1];
-        all_spots.push_back({*q, *px, std::cos(q2) > 0.0});
+        spot_flanges.push_back(cam * current.camera_in_flange.inverse());
       }
+  // From the working configuration (as listed), or on from the last stripe view.
+  for (const auto& [index, q] : visiting_order(
+           cell_, spot_flanges,
+           options_.order_for_travel ? near : StripeWorkcell::reference_joints(),
+           model.errors().zero_offset_rad, options_.order_for_travel)) {
+    const auto px = find_spot(rig.spot_image(q));
+    if (!px) continue;
+    const arm::Joints at = rig.readings(q);
+    const double q2 = at[1] + model.errors().zero_offset_rad[1];
+    all_spots.push_back({at, *px, std::cos(q2) > 0.0});
+  }
   return fit(views, all_spots, model, current, spot_guess_mm);
 }
 

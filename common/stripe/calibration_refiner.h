@@ -58,6 +58,11 @@ struct CalibrationRefinerOptions {
   double table_sigma_mm = 0.2;
   double spot_radius_mm = 8.0;
   int min_stripe_points = 200;
+  // Visit the views in the order that moves the arm least (greedy, by the
+  // joints' travel at their speed limits) instead of as listed: for a real
+  // arm, where the stripe turning between x and y at every view costs a
+  // second each.
+  bool order_for_travel = false;
 };
 
 struct TableStripeView {

@@ -1,5 +1,6 @@
 #include "common/stripe/scan_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -25,6 +26,19 @@ arm::Joints StripeWorkcell::reference_joints() {
   return (arm::Joints() << 0.0, 0.3, -0.4, 0.0, kPi / 2 - 0.1, 0.0).finished();
 }
 
+Eigen::Vector3d StripeWorkcell::table_origin_in_field(const geometry::Workcell& cell) {
+  return Eigen::Vector3d(cell.field_length_mm / 2.0, cell.field_width_mm / 2.0, 0.0);
+}
+
+StripeWorkcell StripeWorkcell::from_workcell(const geometry::Workcell& cell) {
+  StripeWorkcell out;
+  out.base_in_table =
+      Eigen::Translation3d(Eigen::Vector3d(cell.base_x_mm, cell.base_y_mm, cell.base_z_mm) -
+                           table_origin_in_field(cell)) *
+      Eigen::AngleAxisd(cell.base_yaw_rad, Eigen::Vector3d::UnitZ());
+  return out;
+}
+
 Eigen::Isometry3d projector_looking_down(double x_mm, double y_mm, double height_mm,
                                          double stripe_azimuth_rad) {
   const Eigen::Vector3d y(std::cos(stripe_azimuth_rad), std::sin(stripe_azimuth_rad), 0.0);
@@ -47,6 +61,75 @@ Eigen::Isometry3d projector_looking_at(const Eigen::Vector3d& target,
 Eigen::Isometry3d flange_for_projector(const Eigen::Isometry3d& projector_pose,
                                        const SensorCalibration& cage) {
   return projector_pose * cage.projector_in_flange.inverse();
+}
+
+double joint_travel_s(const arm::Joints& from, const arm::Joints& to) {
+  static const arm::JointLimits limits = arm::Puma560::default_limits();
+  return ((to - from).cwiseAbs().array() / limits.qd_max.array()).maxCoeff();
+}
+
+std::vector<size_t> short_round(const std::vector<arm::Joints>& points, const arm::Joints& start) {
+  const size_t n = points.size();
+  std::vector<size_t> order;
+  std::vector<bool> used(n, false);
+  arm::Joints at = start;
+  for (size_t k = 0; k < n; ++k) {
+    size_t best = n;
+    for (size_t i = 0; i < n; ++i)
+      if (!used[i] && (best == n || joint_travel_s(at, points[i]) < joint_travel_s(at, points[best])))
+        best = i;
+    used[best] = true;
+    order.push_back(best);
+    at = points[best];
+  }
+  // 2-opt on the closed round start -> order... -> start.
+  auto p = [&](size_t k) -> const arm::Joints& { return k == 0 || k == n + 1 ? start : points[order[k - 1]]; };
+  for (bool better = true; better;) {
+    better = false;
+    for (size_t i = 1; i + 1 <= n; ++i)
+      for (size_t j = i + 1; j <= n; ++j) {
+        const double now = joint_travel_s(p(i - 1), p(i)) + joint_travel_s(p(j), p(j + 1));
+        const double then = joint_travel_s(p(i - 1), p(j)) + joint_travel_s(p(i), p(j + 1));
+        if (then < now - 1e-9) {
+          std::reverse(order.begin() + static_cast<std::ptrdiff_t>(i - 1),
+                       order.begin() + static_cast<std::ptrdiff_t>(j));
+          better = true;
+        }
+      }
+  }
+  return order;
+}
+
+std::vector<std::pair<size_t, arm::Joints>> visiting_order(
+    const StripeWorkcell& cell, const std::vector<Eigen::Isometry3d>& flanges_in_table,
+    const arm::Joints& start, const arm::Joints& zero_offset_rad, bool least_travel) {
+  std::vector<std::pair<size_t, arm::Joints>> out;
+  arm::Joints near = start;
+  if (!least_travel) {
+    for (size_t i = 0; i < flanges_in_table.size(); ++i) {
+      const auto q = cell.joints_for(flanges_in_table[i], near, zero_offset_rad);
+      if (!q) continue;
+      near = *q;
+      out.emplace_back(i, *q);
+    }
+    return out;
+  }
+  // Each pose's readings from the start, a short round through them, then
+  // the readings again each nearest the previous one.
+  std::vector<size_t> reachable;
+  std::vector<arm::Joints> first;
+  for (size_t i = 0; i < flanges_in_table.size(); ++i)
+    if (const auto q = cell.joints_for(flanges_in_table[i], start, zero_offset_rad)) {
+      reachable.push_back(i);
+      first.push_back(*q);
+    }
+  for (size_t k : short_round(first, start)) {
+    const auto q = cell.joints_for(flanges_in_table[reachable[k]], near, zero_offset_rad);
+    if (!q) continue;
+    near = *q;
+    out.emplace_back(reachable[k], *q);
+  }
+  return out;
 }
 
 std::vector<Eigen::Isometry3d> raster_projector_poses(const RasterSpec& spec) {

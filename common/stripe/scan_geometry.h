@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "common/arm/puma560.h"
+#include "common/geometry/workcell.h"
 #include "common/stripe/sensor_model.h"
 
 namespace ephor::stripe {
@@ -34,6 +35,16 @@ struct StripeWorkcell {
   // A configuration to start from: shoulder right, elbow up, wrist not
   // flipped, the flange pointing down over the square.
   static arm::Joints reference_joints();
+
+  // From the work cell file the arm server reads too (deploy/stripe/
+  // workcell.pbtxt, frame F of common/geometry/workcell.h): the table
+  // frame is F moved to the centre of the field (F's working area), so the
+  // scanned square is centred on the table frame's origin. The default
+  // StripeWorkcell is the file with a 1100 x 1000 mm field and the column
+  // at (0, 500) of F, 450 mm up.
+  static StripeWorkcell from_workcell(const geometry::Workcell& cell);
+  // The table frame's origin in F (mm): the field's centre on the table top.
+  static Eigen::Vector3d table_origin_in_field(const geometry::Workcell& cell);
 };
 
 // Projector pose (projector -> table) looking straight down from `height_mm`
@@ -53,6 +64,27 @@ Eigen::Isometry3d projector_looking_at(const Eigen::Vector3d& target,
 // given where the cage holds it (S_T of `cage`).
 Eigen::Isometry3d flange_for_projector(const Eigen::Isometry3d& projector_pose,
                                        const SensorCalibration& cage);
+
+// How long the PUMA needs between two joint readings at its speed limits,
+// counted as the slowest joint's travel over its limit (s; no acceleration):
+// a measure for ordering views, not a motion time.
+double joint_travel_s(const arm::Joints& from, const arm::Joints& to);
+
+// An order of `points` (joint readings) that travels little from `start`
+// and back to it (an arm's rounds of views end where its work begins):
+// greedily the nearest next, then improved by reversing stretches (2-opt)
+// while that shortens the round in joint_travel_s. Returns the indices.
+std::vector<size_t> short_round(const std::vector<arm::Joints>& points, const arm::Joints& start);
+
+// Visits flange poses (table frame) from the joints `start`: each pose's
+// joint readings nearest the previous ones (StripeWorkcell::joints_for with
+// the model's zero references), unreachable poses left out. In the given
+// order, or, with `least_travel`, in a short round (short_round) - for an
+// arm that really moves between the views. Returns the poses' indices with
+// their joint readings, in visiting order.
+std::vector<std::pair<size_t, arm::Joints>> visiting_order(
+    const StripeWorkcell& cell, const std::vector<Eigen::Isometry3d>& flanges_in_table,
+    const arm::Joints& start, const arm::Joints& zero_offset_rad, bool least_travel);
 
 struct RasterSpec {
   double x0_mm = -50.0, y0_mm = -50.0, x1_mm = 50.0, y1_mm = 50.0;  // region, table frame

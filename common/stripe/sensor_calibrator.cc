@@ -167,7 +167,7 @@ ProjectorPlaneResult calibrate_projector_plane(CalibrationRig& rig, const Stripe
           Eigen::AngleAxisd(pitch_deg * kDeg, Eigen::Vector3d::UnitX());
       q = reach(cell, model, flange_for_projector(s, current), q, "projector calibration");
       const Stripe stripe = extractor.extract(rig.stripe_image(q));
-      const Eigen::Isometry3d t = cell.base_in_table * model.flange(q);
+      const Eigen::Isometry3d t = cell.base_in_table * model.flange(rig.readings(q));
       const Eigen::Isometry3d c = t * current.camera_in_flange;
       for (const StripePoint& p : stripe.points) {
         const Eigen::Vector3d d = c.linear() * current.camera.ray(p.u_px, p.row);

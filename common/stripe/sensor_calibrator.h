@@ -35,6 +35,12 @@ class CalibrationRig {
   virtual cv::Mat stripe_image(const arm::Joints& q) = 0;
   // Move to q and take the image with the filter removed and the laser off.
   virtual cv::Mat spot_image(const arm::Joints& q) = 0;
+  // The joint readings the last image was taken at, for the fits: a real arm
+  // stops near the commanded readings (within its servo's tolerance), not at
+  // them, and may reach the same flange pose in another representation.
+  // `commanded` is what the last image call asked for; a rig that knows no
+  // better returns it.
+  virtual arm::Joints readings(const arm::Joints& commanded) const { return commanded; }
 };
 
 class SimulatedRig : public CalibrationRig {

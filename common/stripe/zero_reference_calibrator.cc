@@ -124,8 +124,18 @@ std::vector<arm::Joints> ZeroReferenceCalibrator::plan(const TrueArm& model,
           const Eigen::Isometry3d cam = look_at(eye, aim, hint);
           const Eigen::Isometry3d flange_in_base =
               cell_.base_in_table.inverse() * cam * current.camera_in_flange.inverse();
-          // Every branch: righty and lefty, elbow up and down, wrist flipped.
-          for (const arm::Joints& physical : puma.inverse(flange_in_base)) {
+          // Every branch: righty and lefty, elbow up and down, wrist flipped
+          // (or only the working configuration's).
+          std::vector<arm::Joints> solutions;
+          if (options_.working_branch_only) {
+            if (const auto q = puma.nearest_inverse(
+                    flange_in_base,
+                    StripeWorkcell::reference_joints() + model.errors().zero_offset_rad))
+              solutions.push_back(*q);
+          } else {
+            solutions = puma.inverse(flange_in_base);
+          }
+          for (const arm::Joints& physical : solutions) {
             const auto frames = puma.link_frames(physical);
             bool clear = true;
             for (int f = 2; f <= 6; ++f)
@@ -141,11 +151,20 @@ std::vector<SpotSighting> ZeroReferenceCalibrator::sight(CalibrationRig& rig, co
                                                          const SensorCalibration& current,
                                                          const Eigen::Vector2d& spot_mm) const {
   std::vector<SpotSighting> out;
-  for (const arm::Joints& q : plan(model, current, spot_mm)) {
+  std::vector<arm::Joints> views = plan(model, current, spot_mm);
+  if (options_.order_for_travel) {
+    // A short round from the working configuration and back.
+    std::vector<arm::Joints> ordered;
+    for (size_t k : short_round(views, StripeWorkcell::reference_joints()))
+      ordered.push_back(views[k]);
+    views = std::move(ordered);
+  }
+  for (const arm::Joints& q : views) {
     const auto s = find_spot(rig.spot_image(q));
     if (!s) continue;
-    const double q2 = q[1] + model.errors().zero_offset_rad[1];
-    out.push_back({q, *s, std::cos(q2) > 0.0});
+    const arm::Joints at = rig.readings(q);
+    const double q2 = at[1] + model.errors().zero_offset_rad[1];
+    out.push_back({at, *s, std::cos(q2) > 0.0});
   }
   return out;
 }

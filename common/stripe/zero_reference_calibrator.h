@@ -65,6 +65,19 @@ struct ZeroReferenceOptions {
   // A second round re-plans the views with the first round's model, so
   // the spot sits nearer the image centre and fewer views are lost.
   int rounds = 2;
+  // Only the working configuration's solution for each pose (the one
+  // nearest StripeWorkcell::reference_joints(): shoulder right, elbow up,
+  // wrist not flipped), not every branch: for an arm that reaches a joint
+  // goal's pose in the configuration it is in (today's ephor-arm replans a
+  // joint goal to the inverse-kinematics solution nearest its current
+  // joints, common/motion/motion_planner.h), where the other branches'
+  // views would only repeat the working one's. Without the righty / lefty
+  // views the zero references are less well separated from C_T (the joint
+  // refinement then carries them; see procs/stripe/README.md).
+  bool working_branch_only = false;
+  // Take the views in the order that moves the arm least (greedy, by the
+  // joints' travel at their speed limits) instead of as planned.
+  bool order_for_travel = false;
 };
 
 // One sighting of the spot.

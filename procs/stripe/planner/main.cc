@@ -1,0 +1,425 @@
+// ephor-stripe-planner: the `scan planner` of the light-stripe system (paper
+// 004, sections 1 and 5): moves the sensor over a region in a regular raster
+// of stripes (the paper's 10 mm steps), one joint goal per stripe to the
+// shared arm through comm, an image at rest at each (STRIPE_CAPTURE), the
+// next goal sent as soon as the image is taken so that the arm moves while
+// the stripe and range processes work on it (ScanSequencer). Everything is
+// checked before the arm moves (RasterPlan): the region's corners and every
+// stripe within reach and clear, the calibration file this robot's.
+//
+//   ephor-stripe-planner --region X0,Y0,X1,Y1 [--step-mm 10] [--height-mm 300]
+//                        [--calibration FILE] [--robot-seed N] [--scans N] [--summary FILE]
+//   ephor-stripe-planner --check [--scene FILE.obj] ...   (the same checks, then exit: 0 or 2)
+//
+//   subscribes  ARM_STATE, MOTION_DONE, STRIPE_IMAGE, STRIPE_POINTS, STRIPE_PROFILE, STRIPE_CLOUD
+//   publishes   ARM_GOAL (arm_goal_t, KIND_JOINTS), STRIPE_CAPTURE, STRIPE_SCAN (on every
+//               change and once a second)
+//   tasks       plan (triggered by each event it waits for; also every 100 ms for timeouts)
+//
+// Ends (exit 0) when --scans scans are done (0 = scan again and again,
+// --pause-s apart); exit 1 when a scan fails, 2 on bad input (one line).
+
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "common/config/repo_paths.h"
+#include "common/config/text_proto.h"
+#include "common/geometry/workcell_file.h"
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/log/log.h"
+#include "common/runtime/process_args.h"
+#include "common/runtime/task_runtime.h"
+#include "common/stripe/calibration_file.h"
+#include "common/stripe/stripe_channels.h"
+#include "common/stripe/stripe_messages.h"
+#include "common/stripe/stripe_scene.h"
+#include "common/time/clock.h"
+#include "ephor/arm_goal_t.hpp"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/motion_done_t.hpp"
+#include "ephor/stripe_capture_t.hpp"
+#include "ephor/stripe_cloud_t.hpp"
+#include "ephor/stripe_image_t.hpp"
+#include "ephor/stripe_points_t.hpp"
+#include "ephor/stripe_profile_t.hpp"
+#include "ephor/stripe_scan_t.hpp"
+#include "procs/stripe/planner/raster_plan.h"
+#include "procs/stripe/planner/scan_sequencer.h"
+
+namespace {
+
+using namespace ephor;
+using namespace ephor::stripe;
+
+// Paper 004, section 5: "a system such as we are discussing should be able to
+// image 3 or 4 stripes of 256 three-dimensional points per second if
+// scanning is done in a regular raster".
+constexpr double kPaperStripesPerS = 3.5;
+
+double now_s() { return static_cast<double>(mono_ns()) * 1e-9; }
+
+struct Image {
+  int64_t request_id, image_index;
+};
+struct Points {
+  int64_t image_index, scan_id;
+  float cpu_us;
+};
+struct Profile {
+  int64_t scan_id;
+  float cpu_us;
+};
+struct Done {
+  int64_t goal_id;
+  int status;
+  std::string reason;
+};
+struct Cloud {
+  int64_t scan_id, points;
+  int stripes_missing;
+  std::string path, error;
+};
+using Event = std::variant<Image, Points, Profile, Done, Cloud>;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  block_shutdown_signals();
+  CLI::App app{"ephor-stripe-planner: scans a region in a raster of stripes with the arm"};
+  ProcessArgs args;
+  add_process_flags(app, args, "planner");
+  std::string region = "-200,-200,200,200", calibration_path, scene_path, summary_path,
+              workcell_path = "deploy/stripe/workcell.pbtxt", along = "y";
+  RasterSpec spec;
+  int robot_seed = 0, scans = 1;
+  bool check = false;
+  double pause_s = 3.0, speed_mm_s = 0.0, duration_s = 0.0;
+  app.add_option("--region", region, "X0,Y0,X1,Y1: the region to scan, mm, table frame")
+      ->capture_default_str();
+  app.add_option("--step-mm", spec.step_mm, "between stripes, mm (default 10, the paper's)")
+      ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--height-mm", spec.height_mm,
+                 "the projector above the table, mm (default 300, the paper's range)")
+      ->check(CLI::Range(50.0, 1000.0));
+  app.add_option("--pass-length-mm", spec.pass_length_mm,
+                 "the length of stripe used per pass along its direction, mm (default 120)")
+      ->check(CLI::Range(10.0, 200.0));
+  app.add_option("--stripes-along", along, "x or y: the stripes' direction (default y)");
+  app.add_option("--calibration", calibration_path,
+                 "calibration file (default: the nominal arm and the cage from the drawings)");
+  app.add_option("--robot-seed", robot_seed, "the robot this is (the calibration must be its)")
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--workcell", workcell_path, "work cell file (default deploy/stripe/workcell.pbtxt)");
+  app.add_option("--scene", scene_path, "--check: the scene file the simulator will load");
+  app.add_flag("--check", check, "check the inputs (region, calibration, scene), then exit");
+  app.add_option("--scans", scans, "scans to make, then exit (0 = until stopped; default 1)")
+      ->check(CLI::Range(0, 1000000));
+  app.add_option("--pause-s", pause_s, "between scans, s (default 3)")
+      ->check(CLI::Range(0.0, 3600.0));
+  app.add_option("--speed-mm-s", speed_mm_s, "tool speed asked of the arm, mm/s (0 = its default)")
+      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--summary", summary_path, "write the last scan's JSON summary here");
+  app.add_option("--duration", duration_s, "exit after this many seconds (0 = when done)")
+      ->check(CLI::Range(0.0, 1e7));
+  if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
+  if (along != "x" && along != "y") {
+    std::cerr << "ephor-stripe-planner: --stripes-along " << along << ": want x or y\n";
+    return 2;
+  }
+  spec.stripes_along_y = along == "y";
+
+  // The checks a person's input gets before anything moves: one line, status 2.
+  geometry::Workcell workcell;
+  StripeCalibration calibration;
+  RasterPlan plan;
+  try {
+    parse_region(region, spec);
+    workcell = geometry::load_workcell_file(resolve_repo_path(workcell_path));
+    calibration = calibration_from_flags(calibration_path, robot_seed);
+    if (!scene_path.empty()) StripeScene::load(resolve_repo_path(scene_path));
+    plan = plan_raster(spec, workcell, calibration.arm_model(), calibration.sensor);
+  } catch (const std::exception& e) {
+    std::cerr << "ephor-stripe-planner: " << e.what() << "\n";
+    return 2;
+  }
+  if (check) {
+    std::cout << "ok: " << plan.goals.size() << " stripes " << spec.step_mm << " mm apart over ("
+              << spec.x0_mm << ", " << spec.y0_mm << ") - (" << spec.x1_mm << ", " << spec.y1_mm
+              << ") mm, " << calibration.measured << "\n";
+    return 0;
+  }
+  init_logging(args.name);
+
+  try {
+    Bus bus(args.lcm_url, args.name);
+    TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
+    std::mutex mutex;
+    std::deque<Event> events;
+    std::optional<arm::Joints> arm_q;
+    std::atomic<bool> finished{false};
+    int exit_code = 0;
+
+    auto push = [&](Event e) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        events.push_back(std::move(e));
+      }
+      runtime.trigger("plan");
+    };
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      arm::Joints q = joints_of(m.q);
+      if (!q.allFinite()) return;
+      std::lock_guard<std::mutex> lock(mutex);
+      arm_q = q;
+    });
+    bus.subscribe<motion_done_t>(ephor::channels::kMotionDone, [&](const motion_done_t& m) {
+      push(Done{m.goal_id, m.status, m.reason});
+    });
+    bus.subscribe<stripe_image_t>(stripe::channels::kImage, [&](const stripe_image_t& m) {
+      if (m.requester != args.name) return;
+      push(Image{m.request_id, m.image_index});
+    });
+    bus.subscribe<stripe_points_t>(stripe::channels::kPoints, [&](const stripe_points_t& m) {
+      push(Points{m.image_index, m.scan_id, m.cpu_us});
+    });
+    bus.subscribe<stripe_profile_t>(stripe::channels::kProfile, [&](const stripe_profile_t& m) {
+      push(Profile{m.scan_id, m.cpu_us});
+    });
+    bus.subscribe<stripe_cloud_t>(stripe::channels::kCloud, [&](const stripe_cloud_t& m) {
+      push(Cloud{m.scan_id, m.points, m.stripes_missing, m.path, m.error});
+    });
+
+    // The scan in hand (task thread only).
+    std::optional<ScanSequencer> seq;
+    int64_t scan_id = 0, next_goal = 1, next_request = 1;
+    int scans_done = 0;
+    double last_status_s = 0.0, pause_until_s = 0.0;
+    double extract_cpu_us = 0.0, range_cpu_us = 0.0;
+    int extract_n = 0, range_n = 0;
+    Cloud last_cloud{};
+    nlohmann::json summary;
+
+    auto publish_scan = [&](double t) {
+      stripe_scan_t m{};
+      m.utime = wall_us();
+      m.scan_id = scan_id;
+      switch (seq->state()) {
+        case ScanState::kWaiting:
+          m.state = stripe_scan_t::STATE_WAITING;
+          break;
+        case ScanState::kRunning:
+          m.state = stripe_scan_t::STATE_RUNNING;
+          break;
+        case ScanState::kCaptured:
+          m.state = stripe_scan_t::STATE_CAPTURED;
+          break;
+        case ScanState::kDone:
+          m.state = stripe_scan_t::STATE_DONE;
+          break;
+        case ScanState::kFailed:
+          m.state = stripe_scan_t::STATE_FAILED;
+          break;
+      }
+      m.reason = seq->reason();
+      m.region_mm[0] = spec.x0_mm;
+      m.region_mm[1] = spec.y0_mm;
+      m.region_mm[2] = spec.x1_mm;
+      m.region_mm[3] = spec.y1_mm;
+      m.step_mm = spec.step_mm;
+      m.height_mm = spec.height_mm;
+      m.stripes_along_y = spec.stripes_along_y;
+      m.stripes_planned = seq->planned();
+      m.stripes_captured = seq->captured();
+      m.stripes_skipped = seq->skipped();
+      m.elapsed_s = seq->elapsed_s(t);
+      m.stripes_per_s = seq->stripes_per_s();
+      m.motion_s = seq->motion_s();
+      m.cloud_points = seq->cloud_points();
+      bus.publish(stripe::channels::kScan, m);
+      last_status_s = t;
+    };
+    auto act = [&](const SequencerActions& a) {
+      if (a.goal) {
+        arm_goal_t g{};
+        g.utime = wall_us();
+        g.goal_id = a.goal->goal_id;
+        g.kind = arm_goal_t::KIND_JOINTS;
+        set_joints(a.goal->q, g.joints_rad);
+        g.max_speed_mm_s = static_cast<float>(speed_mm_s);
+        g.target_object = -1;
+        bus.publish(ephor::channels::kArmGoal, g);
+      }
+      if (a.capture) {
+        stripe_capture_t c{};
+        c.utime = wall_us();
+        c.request_id = a.capture->request_id;
+        c.scan_id = a.capture->stripe >= 0 ? scan_id : 0;
+        c.stripe_index = a.capture->stripe;
+        c.mode = stripe_capture_t::MODE_STRIPE;
+        bus.publish(stripe::channels::kCapture, c);
+      }
+      if (a.changed) publish_scan(now_s());
+    };
+    auto finish_scan = [&](double t) {
+      const double per_stripe_us =
+          extract_n > 0 && range_n > 0 ? extract_cpu_us / extract_n + range_cpu_us / range_n : 0.0;
+      summary = {{"system", "stripe"},
+                 {"scan_id", scan_id},
+                 {"state", to_string(seq->state())},
+                 {"reason", seq->reason()},
+                 {"robot_seed", robot_seed},
+                 {"calibration", calibration_path.empty() ? "drawing" : calibration_path},
+                 {"region_mm", {spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm}},
+                 {"step_mm", spec.step_mm},
+                 {"height_mm", spec.height_mm},
+                 {"stripes_planned", seq->planned()},
+                 {"stripes_captured", seq->captured()},
+                 {"stripes_skipped", seq->skipped()},
+                 {"stripes_missing_in_cloud", last_cloud.stripes_missing},
+                 {"cloud_points", seq->cloud_points()},
+                 {"cloud_path", last_cloud.path},
+                 {"elapsed_s", seq->elapsed_s(t)},
+                 {"motion_s", seq->motion_s()},
+                 {"stripes_per_s_scanned", seq->stripes_per_s()},
+                 {"paper_stripes_per_s", kPaperStripesPerS},
+                 {"processing_cpu_us_per_stripe", per_stripe_us},
+                 {"extract_cpu_us_per_stripe", extract_n > 0 ? extract_cpu_us / extract_n : 0.0},
+                 {"range_cpu_us_per_stripe", range_n > 0 ? range_cpu_us / range_n : 0.0}};
+      if (seq->state() == ScanState::kDone) {
+        spdlog::info(
+            "scan {} done: {} of {} stripes ({} skipped), {} points in {:.1f} s: {:.2f} stripes/s "
+            "scanned with the arm moving (paper: 3-4), arm moving {:.1f} s, processing {:.0f} us "
+            "CPU a stripe",
+            scan_id, seq->captured(), seq->planned(), seq->skipped(), seq->cloud_points(),
+            seq->elapsed_s(t), seq->stripes_per_s(), seq->motion_s(), per_stripe_us);
+      } else {
+        spdlog::error("scan {} failed: {}", scan_id, seq->reason());
+      }
+      if (!summary_path.empty()) {
+        std::ofstream out(summary_path);
+        out << summary.dump(2) << "\n";
+        if (!out) spdlog::error("could not write the summary to {}", summary_path);
+      }
+    };
+    auto new_scan = [&](double t) -> bool {
+      // Planned again from where the arm is (the same plan from the start
+      // configuration; after a scan, from its last stripe).
+      try {
+        plan = plan_raster(spec, workcell, calibration.arm_model(), calibration.sensor, *arm_q);
+      } catch (const PlanError& e) {
+        spdlog::error("{}", e.what());
+        return false;
+      }
+      scan_id = wall_us();
+      seq.emplace(plan.goals, next_goal, next_request);
+      extract_cpu_us = range_cpu_us = 0.0;
+      extract_n = range_n = 0;
+      last_cloud = Cloud{};
+      spdlog::info("scan {}: {} stripes {:g} mm apart over ({:g}, {:g}) - ({:g}, {:g}) mm, {:g} mm "
+                   "up; {}",
+                   scan_id, plan.goals.size(), spec.step_mm, spec.x0_mm, spec.y0_mm, spec.x1_mm,
+                   spec.y1_mm, spec.height_mm, calibration.measured);
+      act(seq->start(t));
+      publish_scan(t);
+      return true;
+    };
+
+    auto job = [&] {
+      const double t = now_s();
+      std::deque<Event> batch;
+      std::optional<arm::Joints> q;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        batch.swap(events);
+        q = arm_q;
+      }
+      if (finished) return;
+      if (!seq) {
+        if (!q) return;  // no arm state yet (comm holds goals until it has one too)
+        if (!new_scan(t)) {
+          exit_code = 1;
+          finished = true;
+          return;
+        }
+      }
+      for (const Event& e : batch) {
+        if (const auto* i = std::get_if<Image>(&e)) {
+          act(seq->on_image(i->request_id, i->image_index, t));
+        } else if (const auto* p = std::get_if<Points>(&e)) {
+          if (p->scan_id == scan_id && p->scan_id != 0) {
+            range_cpu_us += static_cast<double>(p->cpu_us);
+            ++range_n;
+          }
+          act(seq->on_points(p->image_index, t));
+        } else if (const auto* f = std::get_if<Profile>(&e)) {
+          if (f->scan_id == scan_id && f->scan_id != 0) {
+            extract_cpu_us += static_cast<double>(f->cpu_us);
+            ++extract_n;
+          }
+        } else if (const auto* d = std::get_if<Done>(&e)) {
+          if (d->status == motion_done_t::STATUS_REJECTED)
+            spdlog::warn("goal {} refused by the arm: {} (its stripe is skipped)", d->goal_id,
+                         d->reason);
+          act(seq->on_motion_done(d->goal_id, d->status, d->reason, t));
+        } else if (const auto* c = std::get_if<Cloud>(&e)) {
+          if (c->scan_id != scan_id) continue;
+          last_cloud = *c;
+          act(seq->on_cloud(c->points, t));
+        }
+      }
+      act(seq->tick(t));
+      if (t - last_status_s >= 1.0) publish_scan(t);
+      if (seq->finished() && pause_until_s == 0.0) {
+        finish_scan(t);
+        next_goal = seq->next_goal_id();
+        next_request = seq->next_request_id();
+        ++scans_done;
+        if (seq->state() == ScanState::kFailed) {
+          exit_code = 1;
+          finished = true;
+        } else if (scans > 0 && scans_done >= scans) {
+          finished = true;
+        } else {
+          pause_until_s = t + pause_s;
+        }
+      }
+      if (pause_until_s > 0.0 && t >= pause_until_s && q) {
+        pause_until_s = 0.0;
+        arm_q = q;
+        if (!new_scan(t)) {
+          exit_code = 1;
+          finished = true;
+        }
+      }
+    };
+    runtime.add_triggered("plan", std::chrono::milliseconds(50), job);
+    runtime.add_periodic("tick", std::chrono::milliseconds(100), [&] { runtime.trigger("plan"); });
+
+    runtime.start();
+    spdlog::info("ready: {} stripes planned over ({:g}, {:g}) - ({:g}, {:g}) mm, robot seed {}; "
+                 "waiting for the arm",
+                 plan.goals.size(), spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm, robot_seed);
+    const int64_t end_ns =
+        duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
+    while (!finished && mono_ns() < end_ns) {
+      if (wait_for_shutdown_signal(0.05) != 0) break;
+    }
+    runtime.stop();
+    return exit_code;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}
