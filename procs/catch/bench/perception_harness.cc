@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <random>
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-background", no_background,
                "centre on the crescents only, not on the disc against the reference image");
   app.add_flag("--arm-moves", arm_moves,
-               "the arm swings back to the ready point in view between balls (as after a catch)");
+               "the arm swings 0.3 rad in view during each roll (as Prim chasing) and back "
+               "between balls");
   app.add_flag("--park", park, "the arm parked out of view instead of at the ready point");
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--workcell", workcell_path, "work cell file");
@@ -183,8 +185,12 @@ int main(int argc, char** argv) {
     std::vector<double> filtered_errors, measured_errors, pixel_errors;
     std::vector<BallScore> scores;
 
+    // Where the arm is at world time t (none: it stays where it is).
+    std::function<ArmView(double)> arm_of_t;
+
     // One camera frame at world time t: render, vision, world model.
     auto camera_frame = [&](const std::optional<Eigen::Vector3d>& ball_b) -> const BallFrame& {
+      if (arm_of_t) arm = arm_of_t(t);
       const std::optional<Eigen::Vector2d> true_px = renderer.render(ball_b, arm, image);
       const int64_t utime = static_cast<int64_t>(std::llround(t * 1e6)) + 1'000'000;
       const BallFrame& previous = model.last();
@@ -237,6 +243,17 @@ int main(int argc, char** argv) {
       score.exit_time_s = ex.time_s - release_t;
       std::optional<double> settled_since;  // world time since all predictions were inside
       bool any_prediction = false;
+      if (arm_moves) {
+        // As Prim chasing a prediction: from 0.15 s after the release the
+        // arm swings 0.3 rad about its base over 0.6 s, in view.
+        const double sign = k % 2 == 0 ? 1.0 : -1.0;
+        arm_of_t = [&cell, release_t, sign](double now) {
+          const double f = std::clamp((now - release_t - 0.15) / 0.6, 0.0, 1.0);
+          arm::Joints q = cell.ready_joints();
+          q[0] += sign * 0.3 * f;
+          return cell.arm_view(q);
+        };
+      }
       advance(ex.time_s + 0.3, [&](const BallFrame& f) {
         const BallState s = world.state();
         if (!s.on_board) return;
@@ -290,12 +307,13 @@ int main(int argc, char** argv) {
         // point through the camera's view in the first 0.6 s of the gap.
         const double gap_start = t;
         arm::Joints away = cell.ready_joints();
-        away[0] += (k % 2 == 0 ? 0.35 : -0.35);
-        while (t < gap_start + gap_s) {
-          const double f = std::min(1.0, (t - gap_start) / 0.6);
-          arm = cell.arm_view(away + f * (cell.ready_joints() - away));
-          advance(t + frame_s, ignore);
-        }
+        away[0] += (k % 2 == 0 ? 0.3 : -0.3);
+        arm_of_t = [&cell, gap_start, away](double now) {
+          const double f = std::clamp((now - gap_start) / 0.6, 0.0, 1.0);
+          return cell.arm_view(away + f * (cell.ready_joints() - away));
+        };
+        advance(t + gap_s, ignore);
+        arm_of_t = nullptr;
         arm = cell.arm_view(cell.ready_joints());
       } else {
         advance(t + gap_s, ignore);
