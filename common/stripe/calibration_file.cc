@@ -39,7 +39,8 @@ Eigen::Isometry3d load_pose(const TextProto& text, bool has, const config::Strip
   q.normalize();
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
   out.linear() = q.toRotationMatrix();
-  out.translation() = Eigen::Vector3d(p.translation_mm(0), p.translation_mm(1), p.translation_mm(2));
+  out.translation() =
+      Eigen::Vector3d(p.translation_mm(0), p.translation_mm(1), p.translation_mm(2));
   return out;
 }
 
@@ -67,7 +68,8 @@ StripeCalibration load_stripe_calibration(const std::string& path) {
   config::StripeCalibrationFile file;
   const TextProto text(path, &file);
   StripeCalibration c;
-  if (!file.has_robot_seed()) text.fail("robot_seed", "missing (required: the robot it was measured on)");
+  if (!file.has_robot_seed())
+    text.fail("robot_seed", "missing (required: the robot it was measured on)");
   c.robot_seed = file.robot_seed();
   if (file.zero_offset_deg_size() != 6)
     text.fail("zero_offset_deg", file.zero_offset_deg_size() == 0
@@ -82,8 +84,8 @@ StripeCalibration load_stripe_calibration(const std::string& path) {
     c.arm.zero_offset_rad[j] = v * kDeg;
   }
   if (file.link_error_size() != 0 && file.link_error_size() != 6)
-    text.fail("link_error", "needs 6 entries (links 1-6) or none, has " +
-                                std::to_string(file.link_error_size()));
+    text.fail("link_error",
+              "needs 6 entries (links 1-6) or none, has " + std::to_string(file.link_error_size()));
   for (int j = 0; j < file.link_error_size(); ++j) {
     const auto& l = file.link_error(j);
     const std::string name = "link_error[" + std::to_string(j) + "]";

@@ -83,8 +83,8 @@ TEST(CalibrationFile, MissingOrBadFieldsAreNamed) {
   expect_refused(without(good, "camera {", "}\n"), "camera");
   expect_refused(without(good, "  fy_px", "\n"), "camera.fy_px");
   std::string five = good;
-  five.erase(five.find("zero_offset_deg"), five.find('\n', five.find("zero_offset_deg")) -
-                                               five.find("zero_offset_deg") + 1);
+  five.erase(five.find("zero_offset_deg"),
+             five.find('\n', five.find("zero_offset_deg")) - five.find("zero_offset_deg") + 1);
   expect_refused(five, "zero_offset_deg");
   expect_refused(good + "unknown_field: 3\n", "unknown_field");
   expect_refused(good + "robot_seed: \"x\"\n", "robot_seed");
@@ -102,9 +102,9 @@ TEST(CalibrationFile, AnotherRobotIsRefused) {
     check_calibration_robot(c, 5, "f.pbtxt");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("f.pbtxt: measured on robot seed 4, this robot is seed 5",
-                                          0),
-              0u)
+    EXPECT_EQ(
+        std::string(e.what()).rfind("f.pbtxt: measured on robot seed 4, this robot is seed 5", 0),
+        0u)
         << e.what();
   }
 }

@@ -137,10 +137,10 @@ CalibrationRefinement CalibrationRefiner::refine(CalibrationRig& rig, const True
         spot_flanges.push_back(cam * current.camera_in_flange.inverse());
       }
   // From the working configuration (as listed), or on from the last stripe view.
-  for (const auto& [index, q] : visiting_order(
-           cell_, spot_flanges,
-           options_.order_for_travel ? near : StripeWorkcell::reference_joints(),
-           model.errors().zero_offset_rad, options_.order_for_travel)) {
+  for (const auto& [index, q] :
+       visiting_order(cell_, spot_flanges,
+                      options_.order_for_travel ? near : StripeWorkcell::reference_joints(),
+                      model.errors().zero_offset_rad, options_.order_for_travel)) {
     const auto px = find_spot(rig.spot_image(q));
     if (!px) continue;
     const arm::Joints at = rig.readings(q);

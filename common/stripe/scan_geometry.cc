@@ -76,14 +76,17 @@ std::vector<size_t> short_round(const std::vector<arm::Joints>& points, const ar
   for (size_t k = 0; k < n; ++k) {
     size_t best = n;
     for (size_t i = 0; i < n; ++i)
-      if (!used[i] && (best == n || joint_travel_s(at, points[i]) < joint_travel_s(at, points[best])))
+      if (!used[i] &&
+          (best == n || joint_travel_s(at, points[i]) < joint_travel_s(at, points[best])))
         best = i;
     used[best] = true;
     order.push_back(best);
     at = points[best];
   }
   // 2-opt on the closed round start -> order... -> start.
-  auto p = [&](size_t k) -> const arm::Joints& { return k == 0 || k == n + 1 ? start : points[order[k - 1]]; };
+  auto p = [&](size_t k) -> const arm::Joints& {
+    return k == 0 || k == n + 1 ? start : points[order[k - 1]];
+  };
   for (bool better = true; better;) {
     better = false;
     for (size_t i = 1; i + 1 <= n; ++i)

@@ -128,9 +128,9 @@ std::vector<arm::Joints> ZeroReferenceCalibrator::plan(const TrueArm& model,
           // (or only the working configuration's).
           std::vector<arm::Joints> solutions;
           if (options_.working_branch_only) {
-            if (const auto q = puma.nearest_inverse(
-                    flange_in_base,
-                    StripeWorkcell::reference_joints() + model.errors().zero_offset_rad))
+            if (const auto q =
+                    puma.nearest_inverse(flange_in_base, StripeWorkcell::reference_joints() +
+                                                             model.errors().zero_offset_rad))
               solutions.push_back(*q);
           } else {
             solutions = puma.inverse(flange_in_base);

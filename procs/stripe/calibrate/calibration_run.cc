@@ -39,7 +39,9 @@ double angle_deg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 
 }  // namespace
 
-const char* to_string(CalibrationViews v) { return v == CalibrationViews::kFull ? "full" : "quick"; }
+const char* to_string(CalibrationViews v) {
+  return v == CalibrationViews::kFull ? "full" : "quick";
+}
 
 CalibrationViews parse_calibration_views(const std::string& name) {
   if (name == "full") return CalibrationViews::kFull;
@@ -106,8 +108,8 @@ CalibrationRunResult run_calibration(CalibrationRig& real_rig, const StripeWorkc
       "lefty-righty spot gap {:.2f} -> {:.2f} mm; the spot at ({:.2f}, {:.2f}) mm",
       z.correction_rad[1] / kDeg, z.correction_rad[2] / kDeg, z.correction_rad[3] / kDeg,
       z.correction_rad[4] / kDeg, z.rms_px, z.max_px, z.sightings, z.lefty_sightings,
-      rig.images - before, z.lefty_righty_gap_before_mm, z.lefty_righty_gap_after_mm,
-      z.spot_mm.x(), z.spot_mm.y()));
+      rig.images - before, z.lefty_righty_gap_before_mm, z.lefty_righty_gap_after_mm, z.spot_mm.x(),
+      z.spot_mm.y()));
   TrueArm zeroed = TrueArm::with_zero_offsets(z.zero_offset_rad);
   {
     // Keep the start's link errors (an older file's) with the new zero references.
@@ -185,7 +187,8 @@ CalibrationRunResult run_calibration(CalibrationRig& real_rig, const StripeWorkc
   const arm::Joints dz = f.zero_offset_rad - z.zero_offset_rad;
   say(fmt::format(
       "joint refinement (Ceres; zero references, C_T, light plane{}): joints 2-5 moved {:+.4f} "
-      "{:+.4f} {:+.4f} {:+.4f} deg, C_T {:.3f} mm / {:.4f} deg, light plane {:.4f} deg / {:.3f} mm; "
+      "{:+.4f} {:+.4f} {:+.4f} deg, C_T {:.3f} mm / {:.4f} deg, light plane {:.4f} deg / {:.3f} "
+      "mm; "
       "residual: spot {:.3f} -> {:.3f} px rms (max {:.3f}) over {} sightings, stripe on the table "
       "{:.3f} -> {:.3f} mm rms (max {:.3f}) over {} points in {} views ({} images); what it could "
       "not absorb stays in these residuals",

@@ -26,8 +26,8 @@ TEST(CalibrationRun, QuickViewsRecoverTheZeroReferencesOfASeededArm) {
   CalibrationRunOptions o;
   o.views = CalibrationViews::kQuick;
   std::vector<std::string> lines;
-  const CalibrationRunResult r = run_calibration(
-      rig, cell, StripeCalibration::drawing(2), o, [&](const std::string& l) { lines.push_back(l); });
+  const CalibrationRunResult r = run_calibration(rig, cell, StripeCalibration::drawing(2), o,
+                                                 [&](const std::string& l) { lines.push_back(l); });
   EXPECT_EQ(lines.size(), 5u);
   EXPECT_EQ(r.calibration.report, lines);
   EXPECT_EQ(r.calibration.robot_seed, 2);
@@ -39,8 +39,7 @@ TEST(CalibrationRun, QuickViewsRecoverTheZeroReferencesOfASeededArm) {
   }
   // What the calibration is for (section 5): the pyramid's apex located
   // from 20 directions stays put (the nominal model: 26 mm on this robot).
-  const StripeScene pyramid =
-      StripeScene::load(std::string(EPHOR_STRIPE_SCENES) + "/pyramid.obj");
+  const StripeScene pyramid = StripeScene::load(std::string(EPHOR_STRIPE_SCENES) + "/pyramid.obj");
   const StripeWorld scene(pyramid, cell, truth);
   const RangeFinder finder(cell, r.calibration.arm_model(), r.calibration.sensor);
   const DirectionError e =

@@ -203,7 +203,8 @@ int main(int argc, char** argv) {
                "the refinement fits the paper's model only (zero references, C_T, light plane)");
   app.add_option("--spot-x-mm", spot_x, "where the table's spot is believed to be, x (mm)");
   app.add_option("--spot-y-mm", spot_y, "... y (mm)");
-  app.add_option("--workcell", workcell_path, "work cell file (default deploy/stripe/workcell.pbtxt)");
+  app.add_option("--workcell", workcell_path,
+                 "work cell file (default deploy/stripe/workcell.pbtxt)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
   CalibrationRunOptions options;

@@ -29,9 +29,9 @@
 #include <string>
 #include <variant>
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
@@ -121,7 +121,8 @@ int main(int argc, char** argv) {
                  "calibration file (default: the nominal arm and the cage from the drawings)");
   app.add_option("--robot-seed", robot_seed, "the robot this is (the calibration must be its)")
       ->check(CLI::Range(0, 1000000));
-  app.add_option("--workcell", workcell_path, "work cell file (default deploy/stripe/workcell.pbtxt)");
+  app.add_option("--workcell", workcell_path,
+                 "work cell file (default deploy/stripe/workcell.pbtxt)");
   app.add_option("--scene", scene_path, "--check: the scene file the simulator will load");
   app.add_flag("--check", check, "check the inputs (region, calibration, scene), then exit");
   app.add_option("--scans", scans, "scans to make, then exit (0 = until stopped; default 1)")
@@ -327,10 +328,11 @@ int main(int argc, char** argv) {
       extract_cpu_us = range_cpu_us = 0.0;
       extract_n = range_n = 0;
       last_cloud = Cloud{};
-      spdlog::info("scan {}: {} stripes {:g} mm apart over ({:g}, {:g}) - ({:g}, {:g}) mm, {:g} mm "
-                   "up; {}",
-                   scan_id, plan.goals.size(), spec.step_mm, spec.x0_mm, spec.y0_mm, spec.x1_mm,
-                   spec.y1_mm, spec.height_mm, calibration.measured);
+      spdlog::info(
+          "scan {}: {} stripes {:g} mm apart over ({:g}, {:g}) - ({:g}, {:g}) mm, {:g} mm "
+          "up; {}",
+          scan_id, plan.goals.size(), spec.step_mm, spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm,
+          spec.height_mm, calibration.measured);
       act(seq->start(t));
       publish_scan(t);
       return true;
@@ -408,9 +410,10 @@ int main(int argc, char** argv) {
     runtime.add_periodic("tick", std::chrono::milliseconds(100), [&] { runtime.trigger("plan"); });
 
     runtime.start();
-    spdlog::info("ready: {} stripes planned over ({:g}, {:g}) - ({:g}, {:g}) mm, robot seed {}; "
-                 "waiting for the arm",
-                 plan.goals.size(), spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm, robot_seed);
+    spdlog::info(
+        "ready: {} stripes planned over ({:g}, {:g}) - ({:g}, {:g}) mm, robot seed {}; "
+        "waiting for the arm",
+        plan.goals.size(), spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm, robot_seed);
     const int64_t end_ns =
         duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
     while (!finished && mono_ns() < end_ns) {

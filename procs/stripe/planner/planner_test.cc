@@ -24,8 +24,8 @@ geometry::Workcell stripe_cell() {
 TEST(RasterPlan, PlansTheDefaultSquareAtTheWorkingHeight) {
   RasterSpec spec;
   parse_region("-200,-200,200,200", spec);
-  const RasterPlan plan = plan_raster(spec, stripe_cell(), TrueArm::nominal(),
-                                      SensorCalibration::drawing_cage());
+  const RasterPlan plan =
+      plan_raster(spec, stripe_cell(), TrueArm::nominal(), SensorCalibration::drawing_cage());
   // 41 stripes 10 mm apart in each of 4 passes of 100 mm.
   EXPECT_EQ(plan.goals.size(), 4u * 41u);
   EXPECT_EQ(plan.goals.size(), plan.projector_poses.size());
@@ -64,9 +64,9 @@ TEST(RasterPlan, BadRegionsAndStepsAreRefused) {
   EXPECT_THROW(parse_region("0,0,nan,10", spec), PlanError);
   parse_region("0,0,10,10", spec);
   spec.step_mm = 0;
-  EXPECT_THROW(plan_raster(spec, stripe_cell(), TrueArm::nominal(),
-                           SensorCalibration::drawing_cage()),
-               PlanError);
+  EXPECT_THROW(
+      plan_raster(spec, stripe_cell(), TrueArm::nominal(), SensorCalibration::drawing_cage()),
+      PlanError);
 }
 
 std::vector<arm::Joints> three() {

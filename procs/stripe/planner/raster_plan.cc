@@ -50,7 +50,8 @@ void parse_region(const std::string& text, RasterSpec& spec) {
       if (used != item.size()) throw std::invalid_argument(item);
       v.push_back(x);
     } catch (const std::exception&) {
-      throw PlanError("--region \"" + text + "\": \"" + item + "\" is not a number (want X0,Y0,X1,Y1 in mm)");
+      throw PlanError("--region \"" + text + "\": \"" + item +
+                      "\" is not a number (want X0,Y0,X1,Y1 in mm)");
     }
   }
   if (v.size() != 4)
@@ -104,8 +105,7 @@ RasterPlan plan_raster(const RasterSpec& spec, const geometry::Workcell& workcel
   arm::Joints q = start;
   for (size_t i = 0; i < plan.projector_poses.size(); ++i) {
     std::string why;
-    const auto next =
-        reach(plan.projector_poses[i], cell, collisions, model, calibration, q, &why);
+    const auto next = reach(plan.projector_poses[i], cell, collisions, model, calibration, q, &why);
     const Eigen::Vector3d p = plan.projector_poses[i].translation();
     if (!next)
       throw PlanError(fmt::format("stripe {} at ({:.0f}, {:.0f}) mm is out of reach: {}", i, p.x(),

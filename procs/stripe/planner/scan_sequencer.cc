@@ -157,9 +157,10 @@ SequencerActions ScanSequencer::tick(double now_s) {
       return {};
     case Phase::kCloud:
       if (now_s - phase_since_s_ > config_.cloud_timeout_s)
-        return fail(fmt::format("no complete cloud from the range process {:.0f} s after the "
-                                "last image",
-                                config_.cloud_timeout_s));
+        return fail(
+            fmt::format("no complete cloud from the range process {:.0f} s after the "
+                        "last image",
+                        config_.cloud_timeout_s));
       return {};
     case Phase::kNone:
       return {};

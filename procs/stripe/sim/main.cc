@@ -231,8 +231,9 @@ int main(int argc, char** argv) {
         const int64_t utime = wall_us();
         const int64_t index = images++;
         const std::uint64_t image_seed = seed * 1000003ULL + static_cast<std::uint64_t>(index);
-        const cv::Mat img = req.mode == stripe_capture_t::MODE_SPOT ? world.spot_image(q, image_seed)
-                                                                   : world.image(q, image_seed);
+        const cv::Mat img = req.mode == stripe_capture_t::MODE_SPOT
+                                ? world.spot_image(q, image_seed)
+                                : world.image(q, image_seed);
         stripe_image_t m;
         m.utime = utime;
         m.requester = req.header.sender;
@@ -272,8 +273,8 @@ int main(int argc, char** argv) {
         scene_path.empty() ? "the empty table" : scene_path, scene.mesh().faces.size());
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} images ({} repeats answered), {} trajectories refused",
-                 images.load(), repeats.load(), refused.load());
+    spdlog::info("summary: {} images ({} repeats answered), {} trajectories refused", images.load(),
+                 repeats.load(), refused.load());
   } catch (const ConfigError& e) {
     std::cerr << "ephor-stripe-sim: " << e.what() << "\n";
     return 2;

@@ -36,7 +36,8 @@ std::string bytes_of(const std::string& path) {
 }
 
 TEST(StripeReplay, RecordedScanReplaysToAByteIdenticalCloud) {
-  const fs::path dir = fs::temp_directory_path() / ("ephor-stripe-replay-" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("ephor-stripe-replay-" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string log = (dir / "scan.lcm").string(), live = (dir / "live.ply").string(),
                     again = (dir / "replay.ply").string();
@@ -48,7 +49,8 @@ TEST(StripeReplay, RecordedScanReplaysToAByteIdenticalCloud) {
              source_path("deploy/stripe/scenes/pyramid.obj"), "--region=-30,-30,30,30",
              "--robot_seed", "1", "--out", live, "--record", log},
             env);
-    ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(45))) << "the scan did not end";
+    ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(45)))
+        << "the scan did not end";
     ASSERT_EQ(p.exits().front().code, 0);
   }
   const std::string live_bytes = bytes_of(live);
@@ -58,9 +60,9 @@ TEST(StripeReplay, RecordedScanReplaysToAByteIdenticalCloud) {
     p.start("stripe", bin("ephor-stripe-stripe"), {"--no-mlock", "--name", "stripe"}, env);
     p.start("range", bin("ephor-stripe-range"),
             {"--no-mlock", "--name", "range", "--robot-seed", "1", "--out", again}, env);
-    ASSERT_TRUE(wait_until(
-        [&] { return p.has_line("stripe", "ready:") && p.has_line("range", "ready:"); },
-        seconds(10)));
+    ASSERT_TRUE(
+        wait_until([&] { return p.has_line("stripe", "ready:") && p.has_line("range", "ready:"); },
+                   seconds(10)));
     p.start("player", "/usr/bin/lcm-logplayer",
             {"--lcm-url", kUrl, "--regexp", "STRIPE_IMAGE|STRIPE_SCAN", log}, env);
     EXPECT_TRUE(wait_until([&] { return p.has_line("range", "written to"); }, seconds(30)))

@@ -11,10 +11,10 @@
 //    2, and by the processes themselves when started anyway: the arm never
 //    moves (no ARM_TRAJECTORY on the bus).
 
-#include <algorithm>
-#include <atomic>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -61,7 +61,8 @@ TEST(StripeScan, FlatPlateGivesAPlaneWithinTheRandomErrorTarget) {
            source_path("deploy/stripe/scenes/flat_plate.obj"), "--region=-40,-30,40,30",
            "--step_mm", "10", "--out", out},
           {{"LCM_DEFAULT_URL", kUrl}});
-  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(55))) << "the scan did not end";
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(55)))
+      << "the scan did not end";
   bus.stop();
   EXPECT_EQ(p.exits().front().code, 0) << "the launcher reported a failed process";
   EXPECT_TRUE(p.has_line("launch", "planner finished"));
@@ -79,7 +80,8 @@ TEST(StripeScan, FlatPlateGivesAPlaneWithinTheRandomErrorTarget) {
                cloud.size(), fit->rms_mm, fit->max_abs_mm, fit->centroid.z());
   EXPECT_LT(fit->rms_mm, 0.3) << "the random-error target";
   EXPECT_GT(std::abs(fit->normal.z()), 0.999) << "the plate is level";
-  EXPECT_NEAR(fit->centroid.z(), 20.0, 1.0) << "the plate's top (deploy/stripe/scenes/flat_plate.obj)";
+  EXPECT_NEAR(fit->centroid.z(), 20.0, 1.0)
+      << "the plate's top (deploy/stripe/scenes/flat_plate.obj)";
 }
 
 struct ToolRun {
@@ -122,7 +124,8 @@ TEST(StripeScan, BadInputIsOneLineStatusTwoAndTheArmNeverMoves) {
         "zero_offset_deg: [0, 0.1, 0.2, 0.3, 0.4, 0]\n"
         "camera_in_flange { translation_mm: [120, 0, 60] quaternion_wxyz: [1, 0, 0, 0] }\n"
         "projector_in_flange { translation_mm: [0, 0, 80] quaternion_wxyz: [1, 0, 0, 0] }\n";
-    std::ofstream(other) << "robot_seed: 2\n" << text
+    std::ofstream(other) << "robot_seed: 2\n"
+                         << text
                          << "camera { width_px: 256 height_px: 256 fx_px: 625 fy_px: 625 cx_px: "
                             "127.5 cy_px: 127.5 }\n";
     std::ofstream(missing) << "robot_seed: 5\n" << text;
@@ -132,7 +135,8 @@ TEST(StripeScan, BadInputIsOneLineStatusTwoAndTheArmNeverMoves) {
     std::string args, names;
   } cases[] = {
       {"--scene " + bad_obj + " --region=-10,-10,10,10" + out, "line 4"},
-      {"--scene " + plate + " --region=-50,-50,50,700" + out, "region corner (x1, y1) = (50, 700) mm"},
+      {"--scene " + plate + " --region=-50,-50,50,700" + out,
+       "region corner (x1, y1) = (50, 700) mm"},
       {"--scene " + plate + " --region=-50,-50,50,50 --robot-seed 5 --calibration " + other + out,
        "measured on robot seed 2, this robot is seed 5"},
       {"--scene " + plate + " --region=-50,-50,50,50 --robot-seed 5 --calibration " + missing + out,
