@@ -277,6 +277,67 @@ TEST_F(ArmProcessTest, RefusesBadCommandsAndDoesNotMove) {
   for (int64_t seq : {11, 12, 13, 14, 15, 16}) EXPECT_EQ(count_acks(seq), 1);
 }
 
+// A joint trajectory (KIND_TRAJECTORY, RAMBO's reaching trajectories) is
+// checked against the limits and executed as given; one that breaks a limit
+// or does not start where the arm is gets REJECTED with the reason and the
+// arm does not move.
+TEST_F(ArmProcessTest, ExecutesAGivenTrajectoryAndRefusesOneBeyondTheLimits) {
+  const std::vector<double> q0 = joints();
+  // Joint 1 by `rad` in duration_s, rest to rest (q(s) = 3 s^2 - 2 s^3),
+  // sampled every 50 ms: peak speed 1.5 rad / T, acceleration 6 rad / T^2.
+  const auto trajectory = [&](int64_t seq, double rad, double duration_s) {
+    arm_cmd_t c{};
+    c.utime = wall_us();
+    c.kind = arm_goal_t::KIND_TRAJECTORY;
+    c.seq = seq;
+    c.goal_id = seq * 10;
+    const int n = static_cast<int>(std::lround(duration_s / 0.05));
+    for (int k = 0; k <= n; ++k) {
+      const double u = static_cast<double>(k) / n;
+      std::vector<double> q = q0, qd(6, 0.0);
+      q[0] += rad * (3 * u * u - 2 * u * u * u);
+      qd[0] = rad * (6 * u - 6 * u * u) / duration_s;
+      c.traj_t_s.push_back(static_cast<float>(u * duration_s));
+      c.traj_q_rad.push_back(q);
+      c.traj_qd_rad_s.push_back(qd);
+    }
+    c.num_points = static_cast<int32_t>(c.traj_t_s.size());
+    return c;
+  };
+  const int64_t trajectories = locked([&] { return seen_.trajectories; });
+  // 0.3 rad in 0.3 s: 1.5 rad/s (limit 1) and 20 rad/s^2 (limit 2).
+  arm_cmd_t too_fast = trajectory(51, 0.3, 0.3);
+  bus_.publish(channels::kArmCmd, too_fast);
+  arm_cmd_t away = trajectory(52, 0.3, 2.0);
+  for (auto& q : away.traj_q_rad) q[1] += 0.3;
+  bus_.publish(channels::kArmCmd, away);
+  ASSERT_TRUE(wait_until([&] { return ack_for(51, arm_ack_t::STATUS_REJECTED).has_value(); }, 5s));
+  EXPECT_NE(ack_for(51, arm_ack_t::STATUS_REJECTED)->reason.find("joint 1 acceleration"),
+            std::string::npos)
+      << ack_for(51, arm_ack_t::STATUS_REJECTED)->reason;
+  ASSERT_TRUE(wait_until([&] { return ack_for(52, arm_ack_t::STATUS_REJECTED).has_value(); }, 5s));
+  EXPECT_NE(ack_for(52, arm_ack_t::STATUS_REJECTED)->reason.find("from the arm's current joints"),
+            std::string::npos)
+      << ack_for(52, arm_ack_t::STATUS_REJECTED)->reason;
+  const int64_t states = locked([&] { return seen_.states; });
+  ASSERT_TRUE(wait_until([&] { return locked([&] { return seen_.states > states + 20; }); }, 5s));
+  EXPECT_EQ(locked([&] { return seen_.trajectories; }), trajectories);
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(joints()[static_cast<std::size_t>(i)], q0[static_cast<std::size_t>(i)], 1e-6);
+  // 0.3 rad in 1.5 s: within the limits; executed, DONE at its last point.
+  send_and_poll(trajectory(53, 0.3, 1.5));
+  ASSERT_TRUE(wait_until([&] { return ack_for(53, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s))
+      << (ack_for(53, arm_ack_t::STATUS_REJECTED) ? ack_for(53, arm_ack_t::STATUS_REJECTED)->reason
+                                                  : std::string("no ACCEPTED"));
+  EXPECT_NEAR(ack_for(53, arm_ack_t::STATUS_ACCEPTED)->planned_duration_s, 1.5f, 1e-3f);
+  ASSERT_TRUE(wait_until([&] { return ack_for(53, arm_ack_t::STATUS_DONE).has_value(); }, 10s))
+      << (ack_for(53, arm_ack_t::STATUS_FAILED) ? ack_for(53, arm_ack_t::STATUS_FAILED)->reason
+                                                : std::string("no DONE"));
+  stop_polling();
+  EXPECT_NEAR(joints()[0], q0[0] + 0.3, 0.01);
+  EXPECT_NEAR(joints()[1], q0[1], 0.01);
+}
+
 // ESTOP from anyone: the motion in progress ends FAILED with the reason, the
 // arm comes to rest, and commands are refused until the stop is released.
 TEST_F(ArmProcessTest, EstopStopsTheArmAndLatchesUntilReleased) {
