@@ -72,6 +72,11 @@ FILE_INPUTS = {
     "ephor-sphere-locator": [],
     "ephor-sphere-ranger": [],
     "ephor-sphere-scan": [],
+    "ephor-stripe-calibrate": ["--from", "--workcell"],
+    "ephor-stripe-planner": ["--calibration", "--scene", "--workcell"],
+    "ephor-stripe-range": ["--calibration", "--workcell"],
+    "ephor-stripe-sim": ["--scene", "--workcell"],
+    "ephor-stripe-stripe": [],
     "ephor-testtask": [],
     "ephor-track": [None],
     "ephor-vision": [],
@@ -96,6 +101,7 @@ def base_args(src):
         "ephor-sheriff": [os.path.join(src, "deploy/shepherd.pbtxt")],  # flags may be its parameters
         "ephor-sphere-locate": ["scan.csv", "--json", "-"],
         "ephor-sphere-scan": ["--out", "scan.csv"],
+        "ephor-stripe-calibrate": ["--out", "out.pbtxt"],
         "ephor-testtask": ["--task", "periodic:t:10"],
         "ephor-track": ["video.avi", "--json", "-"],
     }
