@@ -115,6 +115,14 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "write the summary and per-ball scores here");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
 
+  if (!json_path.empty()) {
+    // Bad output file: one line, status 2, before any work.
+    std::ofstream probe(json_path, std::ios::app);
+    if (!probe) {
+      std::cerr << "ephor-catch-harness: --json " << json_path << ": cannot write there\n";
+      return 2;
+    }
+  }
   try {
     const BoardSpec board = load_board_file(resolve_repo_path(board_path));
     const geometry::Workcell workcell =
