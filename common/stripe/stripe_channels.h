@@ -19,6 +19,9 @@ inline constexpr const char* kPoints = "STRIPE_POINTS";
 inline constexpr const char* kScan = "STRIPE_SCAN";
 // stripe_cloud_t, range -> planner, display, tests: a scan's cloud is complete.
 inline constexpr const char* kCloud = "STRIPE_CLOUD";
+// camera_frame_t, sim -> display: each image again as a plain camera frame
+// (the shared page's /api/frame.jpg, lcm-spy).
+inline constexpr const char* kCamera = "STRIPE_CAMERA";
 // stripe_truth_t, sim -> tests, display only: the world as it was.
 inline constexpr const char* kTruth = "STRIPE_TRUTH";
 

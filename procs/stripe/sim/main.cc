@@ -13,6 +13,7 @@
 //
 //   subscribes  ARM_TRAJECTORY (joint_trajectory_t), STRIPE_CAPTURE (stripe_capture_t)
 //   publishes   ARM_SERVO (joint_state_t, 250 Hz), STRIPE_IMAGE (stripe_image_t),
+//               STRIPE_CAMERA (camera_frame_t: each image again, for the page),
 //               STRIPE_TRUTH (stripe_truth_t: with each image and once a second)
 //   tasks       physics (2 ms: the servo in 1 ms steps), camera (triggered by a
 //               capture request), truth (1 s)
@@ -47,6 +48,7 @@
 #include "common/stripe/stripe_messages.h"
 #include "common/stripe/stripe_world.h"
 #include "common/time/clock.h"
+#include "ephor/camera_frame_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/stripe_capture_t.hpp"
@@ -248,6 +250,14 @@ int main(int argc, char** argv) {
         m.size = static_cast<int32_t>(img.total());
         m.data.assign(img.data, img.data + img.total());
         bus.publish(stripe::channels::kImage, m);
+        camera_frame_t frame;  // the same pixels for pages and lcm-spy
+        frame.utime = utime;
+        frame.frame_index = index;
+        frame.width = m.width;
+        frame.height = m.height;
+        frame.size = m.size;
+        frame.data = m.data;
+        bus.publish(stripe::channels::kCamera, frame);
         stripe_truth_t t = truth_message(world, robot_seed, scene_path, q, utime, index);
         bus.publish(stripe::channels::kTruth, t);
         std::lock_guard<std::mutex> lock(capture_mutex);
