@@ -289,7 +289,11 @@ class PlanJob {
   std::shared_ptr<ephor::Mailbox<ephor::arm_state_t>> arm_state_;
   std::shared_ptr<ephor::Mailbox<ephor::shepherd_planner_cmd_t>> planner_cmd_;
   std::shared_ptr<DoneQueue> done_;
-  int64_t goal_id_offset_ = 0;
+  // Goal ids on ARM_GOAL are unique across restarts of this process (as the
+  // catching Prim's): a restarted planner counts its goals from 1 again, and
+  // a late MOTION_DONE of the old process's goal 2 must not finish the new
+  // one's (issue 18's fault test found the ids repeated).
+  int64_t goal_id_offset_ = ephor::wall_us();
   int64_t applied_cmd_utime_ = -1;  // header.utime of the newest PLANNER_CMD looked at
   bool warned_no_arm_ = false;
   int64_t bad_objects_ = 0;

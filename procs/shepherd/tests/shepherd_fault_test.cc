@@ -1,0 +1,207 @@
+// Faults, nothing lost (issue 18 item 4, for the shepherding system): the
+// whole system (deploy/shepherd.pbtxt, headless, the launcher's --restart as
+// a deputy restarts) in a private network namespace, recorded by the
+// launcher's lcm-logger (without the camera: --record-channels).
+//
+// 1. Every process but the simulator (the world itself) is killed with
+//    SIGKILL mid-run, one after the other, the monitor first so that its
+//    summary covers the rest. Each is running again within seconds; the
+//    world model's objects and the arm's state flow again; the arm executes
+//    no goal twice, its own restart included (every "seq S goal G: ... move"
+//    it logs is a different G); the recorded log has no hole on OBJECTS or
+//    ARM_STATE longer than a restart and a second.
+// 2. 5 % of the packets on the bus dropped (iptables' statistic match in this
+//    test's network namespace): a camera frame is five LCM fragments, so a
+//    frame is lost more often than a packet; the world model still tracks the
+//    sheep, the arm is still commanded and no process fails.
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "common/lcm/bus.h"
+#include "common/lcm/channels.h"
+#include "common/time/clock.h"
+#include "ephor/arm_state_t.hpp"
+#include "ephor/shepherd_objects_t.hpp"
+#include "tests/integration/harness.h"
+
+namespace ephor::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::seconds;
+
+// deploy/shepherd.pbtxt's bus (this test has its network namespace to itself).
+constexpr const char* kUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216";
+
+// Objects and arm states heard on the bus.
+struct Heard {
+  std::mutex mutex;
+  int64_t objects = 0;
+  int64_t states = 0;
+};
+
+void listen(Bus& bus, Heard& heard) {
+  bus.subscribe<shepherd_objects_t>(channels::kObjects, [&heard](const shepherd_objects_t&) {
+    std::lock_guard<std::mutex> lock(heard.mutex);
+    ++heard.objects;
+  });
+  bus.subscribe<arm_state_t>(channels::kArmState, [&heard](const arm_state_t&) {
+    std::lock_guard<std::mutex> lock(heard.mutex);
+    ++heard.states;
+  });
+  bus.start();
+}
+
+std::pair<int64_t, int64_t> counts(Heard& heard) {
+  std::lock_guard<std::mutex> lock(heard.mutex);
+  return {heard.objects, heard.states};
+}
+
+nlohmann::json read_summary(const std::string& path) {
+  nlohmann::json s;
+  std::ifstream(path) >> s;
+  return s;
+}
+
+TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
+  const fs::path dir = fs::path("/dev/shm") / ("ephor-shepherd-fault-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string log_path = (dir / "run.lcm").string();
+  const std::string summary = (dir / "summary.json").string();
+
+  Heard heard;
+  Bus bus(kUrl, "fault-test");
+  listen(bus, heard);
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {source_path("deploy/shepherd.pbtxt"), "--headless", "--restart", "--record", log_path,
+           "--record-channels", "OBJECTS|ARM_STATE|ARM_GOAL|GROUND_TRUTH", "--duration", "45",
+           "--seed", "7", "--sheep", "4", "--summary", summary});
+  ASSERT_TRUE(wait_until([&] { return counts(heard).first >= 60 && counts(heard).second >= 200; },
+                         seconds(40)))
+      << "the world model and the arm did not start";
+  const int64_t start_ns = mono_ns();
+
+  std::map<std::string, double> restart_s_of;
+  for (const std::string name : {"monitor", "vision", "worldmodel", "planner", "comm", "arm"}) {
+    const int victim = launched_pid(p, "launch", name);
+    ASSERT_GT(victim, 0) << "no pid for " << name;
+    const auto before = counts(heard);
+    const int64_t t0 = mono_ns();
+    ASSERT_EQ(kill(victim, SIGKILL), 0) << name;
+    ASSERT_TRUE(wait_until(
+        [&] {
+          const int pid = launched_pid(p, "launch", name);
+          return pid > 0 && pid != victim;
+        },
+        seconds(5)))
+        << name << " was not restarted";
+    const double restart_s = static_cast<double>(mono_ns() - t0) * 1e-9;
+    restart_s_of[name] = restart_s;
+    EXPECT_LT(restart_s, 5.0) << name;
+    ASSERT_TRUE(wait_until(
+        [&] {
+          const auto now = counts(heard);
+          return now.first >= before.first + 30 && now.second >= before.second + 100;
+        },
+        seconds(15)))
+        << "objects and arm states did not resume after " << name << " was killed";
+    std::fprintf(stderr,
+                 "%s (killed %.1f s in): kill -9 -> running again %.3f s, flowing again %.1f s\n",
+                 name.c_str(), static_cast<double>(t0 - start_ns) * 1e-9, restart_s,
+                 static_cast<double>(mono_ns() - t0) * 1e-9);
+  }
+
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(70))) << "the run did not end";
+  bus.stop();
+  for (const auto& e : p.exits()) {
+    if (e.name == "launch") {
+      EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
+    }
+  }
+
+  // No goal executed twice ("[arm ...] seq 14 goal 14: cartesian move to ...").
+  std::map<std::string, int> started;
+  for (const std::string& line : p.lines("launch")) {
+    if (line.find("[arm ") == std::string::npos) continue;
+    const auto at = line.find(" goal ");
+    const auto colon = at == std::string::npos ? at : line.find(": ", at);
+    if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
+    ++started[line.substr(at + 6, colon - at - 6)];
+  }
+  std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
+  EXPECT_GE(started.size(), 6u) << "the arm was hardly sent anything";
+  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
+
+  const nlohmann::json s = read_summary(summary);
+  std::fprintf(stderr, "summary after the monitor's restart: saves %d, escapes %d\n",
+               s["saves"].get<int>(), s["escapes"].get<int>());
+  EXPECT_GE(s["saves"].get<int>(), 1) << "no sheep saved after the restarts";
+
+  // Holes in the log: no longer than the slowest restart in the chain and a
+  // second (objects, 30 Hz), the arm's restart and a second (its state, 100 Hz).
+  double slowest_s = 0.0;
+  for (const auto& [name, seconds_] : restart_s_of) slowest_s = std::max(slowest_s, seconds_);
+  const std::vector<std::pair<const char*, double>> bounds = {
+      {channels::kObjects, slowest_s + 1.0}, {channels::kArmState, restart_s_of["arm"] + 1.0}};
+  for (const auto& [channel, bound_s] : bounds) {
+    const ChannelGap g = longest_gap_in_log(log_path, channel);
+    std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",
+                 g.count, channel, g.longest_s, g.at_s, bound_s);
+    EXPECT_GT(g.count, 600) << channel;
+    EXPECT_LT(g.longest_s, bound_s) << channel;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
+  ASSERT_EQ(std::system("iptables -A INPUT -i lo -m statistic --mode random --probability 0.05 "
+                        "-j DROP"),
+            0)
+      << "iptables' statistic match is needed for this test";
+  const fs::path dir = fs::path("/dev/shm") / ("ephor-shepherd-loss-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string summary = (dir / "summary.json").string();
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {source_path("deploy/shepherd.pbtxt"), "--headless", "--duration", "45", "--seed", "7",
+           "--sheep", "4", "--summary", summary});
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(90))) << "the run did not end";
+  std::system("iptables -D INPUT -i lo -m statistic --mode random --probability 0.05 -j DROP");
+  const nlohmann::json s = read_summary(summary);
+  std::fprintf(stderr, "with 5 %% loss: objects %.1f Hz, saves %d, escapes %d, id switches %d\n",
+               s["objects_rate_hz"].get<double>(), s["saves"].get<int>(), s["escapes"].get<int>(),
+               s["id_switches"].get<int>());
+  // A frame lost with any of its five fragments, BLOBS and OBJECTS dropped
+  // too, and the monitor's own copy: 17.5 Hz of 30 were heard in one run.
+  EXPECT_GT(s["objects_rate_hz"].get<double>(), 10.0);
+  // The arm goes on being commanded and finishing its moves. Saves and
+  // escapes are printed, not asserted: which packets are lost is not seeded,
+  // and one lost MOTION_DONE early in seed 7's opening burst (4 s until
+  // comm's deadline) has cost two sheep in one run of four and none in the
+  // others.
+  EXPECT_GE(s["arm_commands"].get<int>(), 5) << "the arm stopped being commanded";
+  for (const auto& e : p.exits()) {
+    if (e.name == "launch") {
+      EXPECT_EQ(e.code, 0) << "a process failed under packet loss";
+    }
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ephor::testing
