@@ -74,6 +74,7 @@ FILE_INPUTS = {
     "ephor-sphere-ranger": [],
     "ephor-sphere-scan": [],
     "ephor-stripe-calibrate": ["--from", "--workcell"],
+    "ephor-stripe-display": [],
     "ephor-stripe-planner": ["--calibration", "--scene", "--workcell"],
     "ephor-stripe-range": ["--calibration", "--workcell"],
     "ephor-stripe-sim": ["--scene", "--workcell"],
