@@ -167,6 +167,8 @@ MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
   const auto t0 = Clock::now();
   MotionMeasurement out = difference(frame, window);
   const bool moved = out.found;  // the difference saw motion
+  const Eigen::Vector2d moved_at = out.centroid_px;
+  const double moved_area = out.area_px;
   if (options_.background_centre) {
     const size_t slots = ring_.size();
     Frame& cur = ring_[static_cast<size_t>(frames_ + static_cast<long>(slots) - 1) % slots];
@@ -190,7 +192,17 @@ MotionMeasurement MotionCentroid::process(const cv::Mat& frame,
         out.ball_centre = false;
       }
     }
-    update_background(frame, out, moved);
+    // A ball-sized motion is guarded even when no disc confirmed it: a ball
+    // just released and not yet confirmed (the contrast sign not yet right)
+    // must not enter the reference, or its ghost stays at the release point
+    // and a wrong sign takes it for the ball. (Not the arm's large motion:
+    // a guard on it kept stale pieces of the arm in the reference.)
+    MotionMeasurement guarded = out;
+    if (!guarded.found && moved && moved_area <= options_.max_vote_area_px) {
+      guarded.found = true;
+      guarded.centroid_px = moved_at;
+    }
+    update_background(frame, guarded, moved);
   }
   out.elapsed_ms = ms_since(t0);
   return out;
@@ -388,7 +400,11 @@ MotionMeasurement MotionCentroid::difference(const cv::Mat& frame,
   const Eigen::Vector2d mid = 0.5 * (c_pos + c_neg);
   // Learn the contrast sign: the part where the ball is now lies ahead of
   // the midpoint along the motion of the midpoints.
-  if (options_.contrast_sign == 0 && last_midpoint_) {
+  // Only a ball-sized difference votes: a sign learnt from something else
+  // that moved (the arm coming from its park pose before the first ball)
+  // made the reference centre the ball on its own ghost at the release
+  // point (seed 3).
+  if (options_.contrast_sign == 0 && last_midpoint_ && pos.n + neg.n <= options_.max_vote_area_px) {
     const Eigen::Vector2d motion = mid - *last_midpoint_;
     const Eigen::Vector2d pos_ahead = c_pos - c_neg;
     if (motion.norm() > 0.3 && pos_ahead.norm() > 1.0) {

@@ -73,12 +73,15 @@ class MotionDetector {
 };
 
 struct MotionCentroidOptions {
-  double smoothing_sigma_px = 1.5;    // Gaussian smoothing before differencing
-  int frame_gap = 2;                  // frames between the two differenced ones
-  double threshold = 3.0;             // grey levels of the smoothed difference
-  int min_area_px = 30;               // fewer pixels above threshold: not found
-  int contrast_sign = 0;              // +1 / -1 if known; 0: learn it from the motion
-  int votes_to_learn_sign = 3;        // consistent frames before the learnt sign is trusted
+  double smoothing_sigma_px = 1.5;  // Gaussian smoothing before differencing
+  int frame_gap = 2;                // frames between the two differenced ones
+  double threshold = 3.0;           // grey levels of the smoothed difference
+  int min_area_px = 30;             // fewer pixels above threshold: not found
+  int contrast_sign = 0;            // +1 / -1 if known; 0: learn it from the motion
+  int votes_to_learn_sign = 3;      // consistent frames before the learnt sign is trusted
+  // A difference larger than this (px, both parts) is not the ball (the arm
+  // moving in view) and does not vote on the sign. The ball's is 30-600 px.
+  double max_vote_area_px = 1500.0;
   double ball_radius_px = 0.0;        // the ball's image radius if known; 0: learn it
   bool correct_crescent = true;       // false: the "now" blob's own centroid
   bool background_centre = true;      // centre on the disc against the reference (above)
