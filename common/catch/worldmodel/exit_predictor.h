@@ -24,7 +24,7 @@
 // that ignores them only settles after the last bounce. With pegs known the
 // exit is found by rolling the state forward in 0.5 ms steps under the
 // rolling acceleration, bouncing off pegs and the side rails with the
-// board's restitution (0.5, no friction impulse: procs/catch/sim's model of
+// board's restitution (0.5, no friction impulse: common/catch/sim's model of
 // the board). The exit's covariance stays the peg-free one (first order
 // through a bounce is not meaningful; the sigma is a lower bound then).
 //

@@ -36,6 +36,10 @@
 
 #include "common/catch/board_file.h"
 #include "common/catch/board_model.h"
+#include "common/catch/sim/board_renderer.h"
+#include "common/catch/sim/board_world.h"
+#include "common/catch/sim/catch_cell.h"
+#include "common/catch/sim/catch_scenario.h"
 #include "common/catch/vision/ball_window.h"
 #include "common/catch/vision/board_pose_estimator.h"
 #include "common/catch/vision/circle_finder.h"
@@ -45,10 +49,6 @@
 #include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/runtime/process_args.h"
-#include "procs/catch/sim/board_renderer.h"
-#include "procs/catch/sim/board_world.h"
-#include "procs/catch/sim/catch_cell.h"
-#include "procs/catch/sim/catch_scenario.h"
 
 namespace {
 

@@ -46,6 +46,11 @@
 #include "common/catch/board_file.h"
 #include "common/catch/board_model.h"
 #include "common/catch/catch_channels.h"
+#include "common/catch/sim/ball_sequence.h"
+#include "common/catch/sim/board_renderer.h"
+#include "common/catch/sim/board_world.h"
+#include "common/catch/sim/catch_cell.h"
+#include "common/catch/sim/catch_scenario.h"
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
@@ -62,11 +67,6 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
-#include "procs/catch/sim/ball_sequence.h"
-#include "procs/catch/sim/board_renderer.h"
-#include "procs/catch/sim/board_world.h"
-#include "procs/catch/sim/catch_cell.h"
-#include "procs/catch/sim/catch_scenario.h"
 
 namespace {
 

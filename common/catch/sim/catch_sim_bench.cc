@@ -10,8 +10,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "procs/catch/sim/board_renderer.h"
-#include "procs/catch/sim/board_world.h"
+#include "common/catch/sim/board_renderer.h"
+#include "common/catch/sim/board_world.h"
 
 namespace {
 

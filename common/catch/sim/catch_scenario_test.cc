@@ -1,4 +1,4 @@
-#include "procs/catch/sim/catch_scenario.h"
+#include "common/catch/sim/catch_scenario.h"
 
 #include <cmath>
 #include <numbers>

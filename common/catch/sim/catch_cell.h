@@ -11,10 +11,10 @@
 #include <Eigen/Core>
 
 #include "common/arm/puma560.h"
+#include "common/catch/sim/board_renderer.h"
+#include "common/catch/sim/catch_scenario.h"
 #include "common/geometry/workcell.h"
 #include "common/motion/motion_planner.h"
-#include "procs/catch/sim/board_renderer.h"
-#include "procs/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {
 

@@ -15,9 +15,9 @@
 
 #include <Eigen/Core>
 
-#include "procs/catch/sim/board_world.h"
-#include "procs/catch/sim/catch_cell.h"
-#include "procs/catch/sim/catch_judge.h"
+#include "common/catch/sim/board_world.h"
+#include "common/catch/sim/catch_cell.h"
+#include "common/catch/sim/catch_judge.h"
 
 namespace ephor::catching {
 

@@ -1,4 +1,4 @@
-#include "procs/catch/sim/catch_judge.h"
+#include "common/catch/sim/catch_judge.h"
 
 #include <cmath>
 

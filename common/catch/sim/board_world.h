@@ -40,7 +40,7 @@
 #include <Eigen/Core>
 
 #include "common/catch/board_model.h"
-#include "procs/catch/sim/catch_scenario.h"
+#include "common/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {
 

@@ -1,4 +1,4 @@
-#include "procs/catch/sim/board_world.h"
+#include "common/catch/sim/board_world.h"
 
 #include <cmath>
 #include <cstdint>

@@ -29,7 +29,7 @@
 #include <Eigen/Core>
 
 #include "common/catch/board_model.h"
-#include "procs/catch/sim/board_world.h"
+#include "common/catch/sim/board_world.h"
 
 namespace ephor::catching {
 

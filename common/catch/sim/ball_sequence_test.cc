@@ -1,18 +1,18 @@
-#include "procs/catch/sim/ball_sequence.h"
+#include "common/catch/sim/ball_sequence.h"
 
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "common/catch/sim/catch_scenario.h"
 #include "common/geometry/workcell_file.h"
-#include "procs/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {
 namespace {
 
 // deploy/catch/workcell.pbtxt, found from this file's place in the tree.
 std::string workcell_path() {
-  std::string here = __FILE__;  // .../procs/catch/sim/ball_sequence_test.cc
+  std::string here = __FILE__;  // .../common/catch/sim/ball_sequence_test.cc
   for (int i = 0; i < 4; ++i) here = here.substr(0, here.find_last_of('/'));
   return here + "/deploy/catch/workcell.pbtxt";
 }

@@ -1,4 +1,4 @@
-#include "procs/catch/sim/catch_cell.h"
+#include "common/catch/sim/catch_cell.h"
 
 #include <limits>
 #include <stdexcept>

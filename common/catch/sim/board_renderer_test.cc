@@ -1,4 +1,4 @@
-#include "procs/catch/sim/board_renderer.h"
+#include "common/catch/sim/board_renderer.h"
 
 #include <cmath>
 

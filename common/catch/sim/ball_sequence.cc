@@ -1,4 +1,4 @@
-#include "procs/catch/sim/ball_sequence.h"
+#include "common/catch/sim/ball_sequence.h"
 
 #include <fmt/format.h>
 

@@ -47,7 +47,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/catch/board_model.h"
-#include "procs/catch/sim/catch_scenario.h"
+#include "common/catch/sim/catch_scenario.h"
 
 namespace ephor::catching {
 
