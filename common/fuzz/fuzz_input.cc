@@ -1,0 +1,37 @@
+#include "common/fuzz/fuzz_input.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace ephor::fuzz {
+
+FuzzInputFile::FuzzInputFile() {
+  fd_ = memfd_create("ephor-fuzz-input", MFD_CLOEXEC);
+  if (fd_ < 0) fail("memfd_create failed");
+  path_ = "/proc/self/fd/" + std::to_string(fd_);
+}
+
+FuzzInputFile::~FuzzInputFile() {
+  if (fd_ >= 0) close(fd_);
+}
+
+const std::string& FuzzInputFile::write(const uint8_t* data, size_t size) {
+  if (ftruncate(fd_, 0) != 0) fail("ftruncate of the fuzz input file failed");
+  size_t done = 0;
+  while (done < size) {
+    const ssize_t n = pwrite(fd_, data + done, size - done, static_cast<off_t>(done));
+    if (n <= 0) fail("write of the fuzz input file failed");
+    done += static_cast<size_t>(n);
+  }
+  return path_;
+}
+
+void fail(const std::string& what) {
+  std::fprintf(stderr, "fuzz invariant broken: %s\n", what.c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+}  // namespace ephor::fuzz

@@ -1,0 +1,80 @@
+#pragma once
+// Helpers shared by the fuzz targets (issue 18; see cmake/EphorFuzz.cmake).
+//
+// FuzzInputFile: the fuzzer's bytes as a file, for loaders that take only a
+// path (they are fuzzed as the processes call them, file reading included).
+// One in-memory file (memfd) per process, rewritten for each input and named
+// /proc/self/fd/N, so a run does not touch the disk.
+//
+// FuzzBytes: reads typed values off the fuzzer's bytes (as libFuzzer's
+// FuzzedDataProvider, which the gcc build does not have), for targets that
+// drive a state machine with a sequence of events. Past the end every value
+// is 0 / false / empty. Floating-point values are raw bit patterns, so NaN,
+// infinities, denormals and huge values all come up.
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+namespace ephor::fuzz {
+
+class FuzzInputFile {
+ public:
+  FuzzInputFile();
+  ~FuzzInputFile();
+  FuzzInputFile(const FuzzInputFile&) = delete;
+  FuzzInputFile& operator=(const FuzzInputFile&) = delete;
+
+  // Replaces the file's contents with `size` bytes at `data`; returns path().
+  const std::string& write(const uint8_t* data, size_t size);
+  const std::string& path() const { return path_; }
+
+ private:
+  int fd_ = -1;
+  std::string path_;
+};
+
+class FuzzBytes {
+ public:
+  FuzzBytes(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+
+  bool empty() const { return pos_ >= size_; }
+  size_t remaining() const { return size_ - pos_; }
+
+  template <typename T>
+  T take() {
+    T value{};
+    unsigned char* out = reinterpret_cast<unsigned char*>(&value);
+    for (size_t i = 0; i < sizeof(T) && pos_ < size_; ++i) out[i] = data_[pos_++];
+    return value;
+  }
+  bool take_bool() { return (take<uint8_t>() & 1) != 0; }
+  // A value in [lo, hi] (inclusive), from one or more bytes.
+  int64_t take_in(int64_t lo, int64_t hi) {
+    const uint64_t span = static_cast<uint64_t>(hi - lo) + 1;
+    const uint64_t raw = span <= 256     ? take<uint8_t>()
+                         : span <= 65536 ? take<uint16_t>()
+                                         : take<uint64_t>();
+    return lo + static_cast<int64_t>(span == 0 ? raw : raw % span);
+  }
+  // Up to `max_len` bytes as a string (length from one byte).
+  std::string take_string(size_t max_len) {
+    const size_t n = std::min<size_t>(take<uint8_t>(), max_len);
+    std::string s;
+    for (size_t i = 0; i < n && pos_ < size_; ++i) s.push_back(static_cast<char>(data_[pos_++]));
+    return s;
+  }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+  size_t pos_ = 0;
+};
+
+// A broken invariant: prints `what` and aborts, so libFuzzer (and the corpus
+// runner) report the input as a crash.
+[[noreturn]] void fail(const std::string& what);
+
+}  // namespace ephor::fuzz
