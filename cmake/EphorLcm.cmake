@@ -13,7 +13,9 @@ function(ephor_lcm_types target)
     OUTPUT ${headers}
     COMMAND ${CMAKE_COMMAND} -E make_directory ${cpp_dir}
     COMMAND ${LCM_GEN} --cpp --cpp-hpath ${cpp_dir} ${ARG_TYPES}
-    DEPENDS ${ARG_TYPES}
+    # Decoders refuse array counts beyond the message's bytes (issue 18).
+    COMMAND sed -i -E -f ${CMAKE_SOURCE_DIR}/cmake/lcm_bound_counts.sed ${headers}
+    DEPENDS ${ARG_TYPES} ${CMAKE_SOURCE_DIR}/cmake/lcm_bound_counts.sed
     WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}
     COMMENT "lcm-gen: C++ types"
     VERBATIM)

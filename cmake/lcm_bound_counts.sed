@@ -1,0 +1,15 @@
+# Applied by cmake/EphorLcm.cmake to lcm-gen's C++ headers (LCM 1.3.1). Found
+# by the fuzz target arm_command (issue 18): two ways in which one malformed
+# message made the generated decode() throw std::length_error out of the
+# bus's receive callback, killing the process, instead of returning -1:
+#
+# 1. A string's length field of 0 or less: the decoder assigned length - 1
+#    (as size_t: about 2^64) characters. Every message with a header_t
+#    (sender) has one. The length counts the terminating NUL, so it is >= 1.
+s/^( *)if\((__[A-Za-z0-9_]+) > maxlen - pos\) return -1;$/\1if(\2 <= 0 || \2 > maxlen - pos) return -1;  \/\/ ephor: cmake\/lcm_bound_counts.sed/
+# 2. A variable-length array's count: the decoder resized the array to the
+#    count it had just read before checking the buffer held that many
+#    elements; a negative count threw and a huge one allocated gigabytes for
+#    a message of a hundred bytes. Every element takes at least one byte, so
+#    a count beyond the bytes left is refused.
+s/^( *)this->([A-Za-z0-9_]+)\.resize\(this->([A-Za-z0-9_]+)\);$/\1if (this->\3 < 0 || this->\3 > maxlen - pos) return -1;  \/\/ ephor: cmake\/lcm_bound_counts.sed\n\1this->\2.resize(this->\3);/
