@@ -170,6 +170,7 @@ void GoalRelay::on_ack(const Ack& ack, int64_t now_us) {
       f.seq = next_seq_++;
       f.phase = Phase::kDelivering;
       f.attempts = 0;
+      f.transmissions = 0;  // the fresh seq's first send is its transmission 1 (issue 18, fuzzing)
       f.last_sent_us = now_us - options_.retry_interval_us;  // due at once
       return;
     }
@@ -258,12 +259,13 @@ void GoalRelay::finish(Outcome status, std::string reason, int64_t now_us) {
 
 void GoalRelay::transmit(RelayOutput& out, int64_t now_us, bool first) {
   InFlight& f = *in_flight_;
+  const bool new_seq = f.transmissions == 0;  // also a goal moved to a fresh seq
   ++f.transmissions;
   if (f.phase == Phase::kDelivering) {
     ++f.attempts;
-    if (first) {
+    if (new_seq) {
       ++counters_.commands_sent;
-      f.first_sent_us = now_us;
+      if (first) f.first_sent_us = now_us;
     } else {
       ++counters_.retransmissions;
     }

@@ -324,6 +324,11 @@ TEST(GoalRelayTest, InFlightSeqAnsweredForAnotherGoalMovesToAFreshSeq) {
   ASSERT_EQ(out.commands.size(), 1u);
   EXPECT_EQ(out.commands[0].goal.goal_id, 1);
   EXPECT_GT(out.commands[0].seq, cmd.seq);
+  // The fresh seq's first send is its first transmission, not a retransmission
+  // (found by the fuzz target comm_goal_relay).
+  EXPECT_EQ(out.commands[0].transmission, 1);
+  EXPECT_EQ(relay.counters().commands_sent, 2);
+  EXPECT_EQ(relay.counters().retransmissions, 0);
   EXPECT_EQ(relay.counters().seq_conflicts, 1);
 }
 
