@@ -46,6 +46,33 @@ std::int64_t cell_key(const Eigen::Vector3d& p, double cell) {
 
 }  // namespace
 
+std::vector<MatchedTriangle> matched_triangles(const TargetModel& model,
+                                               const std::vector<ImageTriple>& triples,
+                                               const TrianglePoseResult& result) {
+  std::vector<MatchedTriangle> out;
+  if (!result.found) return out;
+  // The model vertex of an image point (the same point, as estimate() took
+  // it from the triples), or -1.
+  auto vertex_of = [&](const Eigen::Vector2d& p) {
+    for (std::size_t k = 0; k < result.matched_points_px.size(); ++k)
+      if ((result.matched_points_px[k] - p).squaredNorm() < 1e-12)
+        return result.matched_vertices[k];
+    return -1;
+  };
+  auto joined = [&](int u, int v) {
+    const auto& n = model.neighbours()[static_cast<std::size_t>(u)];
+    return std::find(n.begin(), n.end(), v) != n.end();
+  };
+  for (std::size_t i = 0; i < triples.size(); ++i) {
+    const int r = vertex_of(triples[i].reference_px);
+    const int a = vertex_of(triples[i].a_px);
+    const int b = vertex_of(triples[i].b_px);
+    if (r < 0 || a < 0 || b < 0 || a == b || !joined(r, a) || !joined(r, b)) continue;
+    out.push_back({static_cast<int>(i), {r, a, b}});
+  }
+  return out;
+}
+
 const char* to_string(TrianglePoseMethod m) {
   return m == TrianglePoseMethod::kExactPerspective ? "exact-perspective" : "paraperspective";
 }
@@ -351,8 +378,13 @@ TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple
       }
       r.correspondences = static_cast<int>(o.size());
       r.matched_vertices.clear();
-      for (int v = 0; v < nv; ++v)
-        if (point_of_vertex[static_cast<std::size_t>(v)] >= 0) r.matched_vertices.push_back(v);
+      r.matched_points_px.clear();
+      for (int v = 0; v < nv; ++v) {
+        const int i = point_of_vertex[static_cast<std::size_t>(v)];
+        if (i < 0) continue;
+        r.matched_vertices.push_back(v);
+        r.matched_points_px.push_back(points[static_cast<std::size_t>(i)]);
+      }
       if (o.size() < 4) break;
       cv::Mat rm(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
       for (int i = 0; i < 3; ++i) {

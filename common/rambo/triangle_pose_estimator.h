@@ -77,9 +77,22 @@ struct TrianglePoseResult {
   int cluster_size = 0;               // hypotheses in the winning cluster
   int correspondences = 0;            // image points matched to model vertices after refinement
   std::vector<int> matched_vertices;  // their model vertices
+  std::vector<Eigen::Vector2d> matched_points_px;  // and those image points, same order
   bool ambiguous = false;  // found only with the prior's support (see above), or why not found
   double rms_reprojection_px = 0.0;
 };
+
+// An image triple that a found pose matches to a model triangle: each of
+// its three points is one of the result's matched image points, and the
+// model vertices of the two joined points are joined to the reference's on
+// the model (for the page, procs/rambo/display).
+struct MatchedTriangle {
+  int triple = -1;         // index into the triples given to estimate()
+  ModelTriangle vertices;  // reference, a, b as in the triple (a, b not sorted)
+};
+std::vector<MatchedTriangle> matched_triangles(const TargetModel& model,
+                                               const std::vector<ImageTriple>& triples,
+                                               const TrianglePoseResult& result);
 
 class TrianglePoseEstimator {
  public:

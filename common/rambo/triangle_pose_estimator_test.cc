@@ -23,6 +23,40 @@ double angle(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle();
 }
 
+// The page's matched triangles (procs/rambo/display): on a noise-free view
+// every image triple is matched, to the model vertices whose projections its
+// points are; a triple with a point off the target is not.
+TEST(TrianglePoseEstimator, MatchedTrianglesAreTheTriplesOnTheirModelTriangles) {
+  const CameraIntrinsics cam;
+  auto triples = synthetic_image_triples(box(), cam, true_pose(), 0.0, nullptr);
+  ImageTriple stray = triples.front();
+  stray.a_px += Eigen::Vector2d(40.0, -30.0);  // no vertex there
+  triples.push_back(stray);
+  const TargetModel model = box();
+  const TrianglePoseEstimator est(model, cam, TrianglePoseOptions{});
+  const TrianglePoseResult r = est.estimate(triples);
+  ASSERT_TRUE(r.found) << r.reason;
+  ASSERT_EQ(r.matched_points_px.size(), r.matched_vertices.size());
+  const auto matched = matched_triangles(model, triples, r);
+  EXPECT_EQ(matched.size(), triples.size() - 1);
+  for (const MatchedTriangle& m : matched) {
+    ASSERT_LT(m.triple, static_cast<int>(triples.size()) - 1) << "the stray triple was matched";
+    const ImageTriple& t = triples[static_cast<std::size_t>(m.triple)];
+    const auto& v = model.vertices();
+    EXPECT_LT((cam.project(true_pose() * v[static_cast<std::size_t>(m.vertices.reference)]) -
+               t.reference_px)
+                  .norm(),
+              1e-6);
+    EXPECT_LT(
+        (cam.project(true_pose() * v[static_cast<std::size_t>(m.vertices.a)]) - t.a_px).norm(),
+        1e-6);
+    EXPECT_LT(
+        (cam.project(true_pose() * v[static_cast<std::size_t>(m.vertices.b)]) - t.b_px).norm(),
+        1e-6);
+  }
+  EXPECT_TRUE(matched_triangles(model, triples, TrianglePoseResult{}).empty());
+}
+
 TEST(TargetModel, TruncatedBoxTopology) {
   const TargetModel m = box();
   EXPECT_EQ(m.vertices().size(), 10u);

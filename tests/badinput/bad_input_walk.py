@@ -62,6 +62,7 @@ FILE_INPUTS = {
     "ephor-rambo-planner": [],
     "ephor-rambo-pose": [],
     "ephor-rambo-predictor": [],
+    "ephor-rambo-display": ["--model"],
     "ephor-rambo-sim": ["--workcell"],
     "ephor-replay": [None],
     "ephor-scheduler": ["--manifest"],

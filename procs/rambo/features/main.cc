@@ -4,7 +4,8 @@
 // triples (extract_image_features, common/rambo/image_features.h).
 //
 //   subscribes  CAMERA (camera_frame_t, 8-bit grey)
-//   publishes   RAMBO_FEATURES (rambo_features_t, source "features"), one per frame
+//   publishes   RAMBO_FEATURES (rambo_features_t, source "features": the triples, and the
+//               corners and edges they were made from, for the page), one per frame
 //   tasks       features (triggered by CAMERA: always the newest frame)
 
 #include <atomic>
@@ -67,6 +68,10 @@ int main(int argc, char** argv) {
         out.triples_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(), t.a_px.y(),
                                   t.b_px.x(), t.b_px.y()});
       out.num_triples = static_cast<int32_t>(out.triples_px.size());
+      for (const Eigen::Vector2d& c : f.corners_px) out.corners_px.push_back({c.x(), c.y()});
+      out.num_corners = static_cast<int32_t>(out.corners_px.size());
+      for (const auto& [i, j] : f.edges) out.edges.push_back({i, j});
+      out.num_edges = static_cast<int32_t>(out.edges.size());
       if (f.triples.empty() && ++empty % 20 == 1)
         spdlog::info("frame {}: {} ({} such frames)", m->frame_index, f.reason, empty.load());
       ++done;

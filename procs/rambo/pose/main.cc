@@ -8,7 +8,8 @@
 //
 //   subscribes  RAMBO_FEATURES (rambo_features_t; or --features-channel), ARM_STATE (arm_state_t),
 //               RAMBO_PREDICTION (rambo_prediction_t: the prior)
-//   publishes   RAMBO_POSE (rambo_pose_t), one per features message
+//   publishes   RAMBO_POSE (rambo_pose_t: with the camera's pose and the matched
+//               triangles, for the page), one per features message
 //   tasks       pose (triggered by RAMBO_FEATURES: always the newest)
 //
 // --features-channel: the features process's triples (section 4, from the
@@ -218,6 +219,7 @@ int main(int argc, char** argv) {
       out.utime = f->utime;
       out.frame_index = f->frame_index;
       out.features_source = f->source;
+      out.camera_r[0] = out.camera_r[4] = out.camera_r[8] = 1.0;  // unknown until the joints are
       std::vector<ImageTriple> triples;
       bool finite = static_cast<int>(f->triples_px.size()) == f->num_triples;
       for (const auto& t : f->triples_px) {
@@ -255,6 +257,10 @@ int main(int argc, char** argv) {
         out.reason = "no image triples in the frame";
       } else {
         const Eigen::Isometry3d camera = arm.forward(*q) * cell.camera_in_tool;
+        for (int i = 0; i < 3; ++i) {
+          for (int j = 0; j < 3; ++j) out.camera_r[3 * i + j] = camera.linear()(i, j);
+          out.camera_t_mm[i] = camera.translation()[i];
+        }
         if (peer_every > 0 && f->frame_index % peer_every == 0) {
           std::lock_guard<std::mutex> lock(peer_mutex);
           if (!peer_job) {  // else the peer is still on an older frame: skipped
@@ -274,6 +280,14 @@ int main(int argc, char** argv) {
         out.rms_reprojection_px = r.rms_reprojection_px;
         out.found = r.found;
         out.reason = r.reason;
+        for (const MatchedTriangle& m : matched_triangles(cell.model, triples, r)) {
+          const ImageTriple& t = triples[static_cast<std::size_t>(m.triple)];
+          out.matched_triangles_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(),
+                                              t.a_px.y(), t.b_px.x(), t.b_px.y()});
+          out.matched_triangle_vertices.push_back(
+              {m.vertices.reference, m.vertices.a, m.vertices.b});
+        }
+        out.num_matched_triangles = static_cast<int32_t>(out.matched_triangles_px.size());
         if (r.found) {
           const Eigen::Isometry3d in_base = camera * r.target_in_camera;
           for (int i = 0; i < 3; ++i) {
@@ -315,6 +329,10 @@ int main(int argc, char** argv) {
           out.utime = job.utime;
           out.frame_index = job.frame_index;
           out.features_source = job.source;
+          for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) out.camera_r[3 * i + j] = job.camera.linear()(i, j);
+            out.camera_t_mm[i] = job.camera.translation()[i];
+          }
           const int64_t cpu0 = thread_cpu_ns();
           const auto r = peer.estimate(job.triples);
           out.pose_ms = static_cast<double>(thread_cpu_ns() - cpu0) * 1e-6;

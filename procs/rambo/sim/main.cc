@@ -505,6 +505,22 @@ int main(int argc, char** argv) {
         f.triples_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(), t.a_px.y(),
                                 t.b_px.x(), t.b_px.y()});
       f.num_triples = static_cast<int32_t>(f.triples_px.size());
+      // The corners and edges the triples stand for (the page draws them).
+      auto corner_of = [&f](double x, double y) {
+        for (std::size_t k = 0; k < f.corners_px.size(); ++k)
+          if (f.corners_px[k][0] == x && f.corners_px[k][1] == y) return static_cast<int32_t>(k);
+        f.corners_px.push_back({x, y});
+        return static_cast<int32_t>(f.corners_px.size() - 1);
+      };
+      for (const auto& t : f.triples_px) {
+        const int32_t r = corner_of(t[0], t[1]);
+        for (const int32_t j : {corner_of(t[2], t[3]), corner_of(t[4], t[5])}) {
+          const std::vector<int32_t> e{std::min(r, j), std::max(r, j)};
+          if (std::find(f.edges.begin(), f.edges.end(), e) == f.edges.end()) f.edges.push_back(e);
+        }
+      }
+      f.num_corners = static_cast<int32_t>(f.corners_px.size());
+      f.num_edges = static_cast<int32_t>(f.edges.size());
       bus.publish(rambo::channels::kFeaturesOracle, f);
       ++w.frames;
     });
