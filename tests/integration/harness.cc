@@ -52,6 +52,32 @@ int launched_pid(const Processes& p, const std::string& launcher, const std::str
   return pid;
 }
 
+double kill_and_await_restart(const Processes& p, const std::string& launcher,
+                              const std::string& process, std::chrono::milliseconds timeout) {
+  const int victim = launched_pid(p, launcher, process);
+  if (victim <= 0 || kill(victim, SIGKILL) != 0) return -1.0;
+  const int64_t t0 = mono_ns();
+  const bool restarted = wait_until(
+      [&] {
+        const int pid = launched_pid(p, launcher, process);
+        return pid > 0 && pid != victim;
+      },
+      timeout);
+  return restarted ? static_cast<double>(mono_ns() - t0) * 1e-9 : -2.0;
+}
+
+std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines) {
+  std::map<std::string, int> started;
+  for (const std::string& line : launcher_lines) {
+    if (line.find("[arm ") == std::string::npos) continue;
+    const auto at = line.find(" goal ");
+    const auto colon = at == std::string::npos ? at : line.find(": ", at);
+    if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
+    ++started[line.substr(at + 6, colon - at - 6)];
+  }
+  return started;
+}
+
 std::string bin(const std::string& name) {
   const char* dir = std::getenv("EPHOR_BIN_DIR");
   if (dir == nullptr)

@@ -42,6 +42,18 @@ class Processes;
 // processes ("started NAME (pid N)"): a restart gives a new one. 0 if none.
 int launched_pid(const Processes& p, const std::string& launcher, const std::string& process);
 
+// kill -9 of `process` (one of the launcher's), then waits until the launcher
+// has started it again (a new pid). Seconds from the kill to the new pid; a
+// negative value when it had no pid (-1) or was not restarted within
+// `timeout` (-2).
+double kill_and_await_restart(const Processes& p, const std::string& launcher,
+                              const std::string& process, std::chrono::milliseconds timeout);
+
+// How many times the arm set off on each goal id, from the arm's lines in the
+// launcher's output ("[arm ...] seq 14 goal 14: cartesian move to ..."): a
+// fault test's "no goal runs twice".
+std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines);
+
 // Child processes with their output kept for assertions. Stops them all on
 // destruction.
 class Processes {

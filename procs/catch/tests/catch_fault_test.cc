@@ -88,19 +88,10 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
 
   std::map<std::string, double> restart_s_of;
   for (const std::string name : {"monitor", "vision", "worldmodel", "prim", "comm", "arm"}) {
-    const int victim = launched_pid(p, "launch", name);
-    ASSERT_GT(victim, 0) << "no pid for " << name;
     const auto before = heard();
     const int64_t t0 = mono_ns();
-    ASSERT_EQ(kill(victim, SIGKILL), 0) << name;
-    ASSERT_TRUE(wait_until(
-        [&] {
-          const int pid = launched_pid(p, "launch", name);
-          return pid > 0 && pid != victim;
-        },
-        seconds(5)))
-        << name << " was not restarted";
-    const double restart_s = static_cast<double>(mono_ns() - t0) * 1e-9;
+    const double restart_s = kill_and_await_restart(p, "launch", name, seconds(5));
+    ASSERT_GE(restart_s, 0.0) << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
     restart_s_of[name] = restart_s;
     // The launcher's backoff is 0.1 s; the rest is the killed process's
     // teardown and the new one's start (0.1-0.2 s here, once 3.5 s for the
@@ -129,14 +120,7 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
   }
 
   // No goal executed twice.
-  std::map<std::string, int> started;
-  for (const std::string& line : p.lines("launch")) {
-    if (line.find("[arm ") == std::string::npos) continue;
-    const auto at = line.find(" goal ");
-    const auto colon = at == std::string::npos ? at : line.find(": ", at);
-    if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
-    ++started[line.substr(at + 6, colon - at - 6)];
-  }
+  const std::map<std::string, int> started = arm_goal_starts(p.lines("launch"));
   std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
   EXPECT_GE(started.size(), 5u) << "the arm was hardly sent anything";
   for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;

@@ -33,6 +33,7 @@
 
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
+#include "common/lcm/inbox.h"
 #include "common/lcm/mailbox.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
@@ -56,39 +57,6 @@ using ephor::comm::Command;
 using ephor::comm::Goal;
 using ephor::comm::MotionDone;
 using ephor::comm::Outcome;
-
-// A bounded FIFO from the bus thread to the relay task. When full (the task
-// stalled for seconds) the oldest entry is dropped and counted.
-template <class T>
-class Inbox {
- public:
-  explicit Inbox(size_t capacity) : capacity_(capacity) {}
-  void push(const T& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (queue_.size() >= capacity_) {
-      queue_.pop_front();
-      ++dropped_;
-    }
-    queue_.push_back(msg);
-  }
-  std::vector<T> drain() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    std::vector<T> out(std::make_move_iterator(queue_.begin()),
-                       std::make_move_iterator(queue_.end()));
-    queue_.clear();
-    return out;
-  }
-  uint64_t dropped() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return dropped_;
-  }
-
- private:
-  const size_t capacity_;
-  mutable std::mutex mutex_;
-  std::deque<T> queue_;
-  uint64_t dropped_ = 0;
-};
 
 Goal to_goal(const ephor::arm_goal_t& m) {
   Goal g;
@@ -282,8 +250,8 @@ int main(int argc, char** argv) {
 
     // Everything the bus callbacks touch is declared before the bus, so it
     // outlives the bus thread.
-    Inbox<ephor::arm_goal_t> goals(256);
-    Inbox<ephor::arm_ack_t> acks(1024);
+    ephor::Inbox<ephor::arm_goal_t> goals(256);
+    ephor::Inbox<ephor::arm_ack_t> acks(1024);
     auto arm_state = std::make_shared<ephor::Mailbox<ephor::arm_state_t>>();
     ForeignSenders foreign_acks(ephor::channels::kArmAck);
     ForeignSenders foreign_states(ephor::channels::kArmState);

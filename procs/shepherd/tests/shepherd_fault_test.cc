@@ -98,19 +98,10 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
 
   std::map<std::string, double> restart_s_of;
   for (const std::string name : {"monitor", "vision", "worldmodel", "planner", "comm", "arm"}) {
-    const int victim = launched_pid(p, "launch", name);
-    ASSERT_GT(victim, 0) << "no pid for " << name;
     const auto before = counts(heard);
     const int64_t t0 = mono_ns();
-    ASSERT_EQ(kill(victim, SIGKILL), 0) << name;
-    ASSERT_TRUE(wait_until(
-        [&] {
-          const int pid = launched_pid(p, "launch", name);
-          return pid > 0 && pid != victim;
-        },
-        seconds(5)))
-        << name << " was not restarted";
-    const double restart_s = static_cast<double>(mono_ns() - t0) * 1e-9;
+    const double restart_s = kill_and_await_restart(p, "launch", name, seconds(5));
+    ASSERT_GE(restart_s, 0.0) << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
     restart_s_of[name] = restart_s;
     EXPECT_LT(restart_s, 5.0) << name;
     ASSERT_TRUE(wait_until(
@@ -135,14 +126,7 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
   }
 
   // No goal executed twice ("[arm ...] seq 14 goal 14: cartesian move to ...").
-  std::map<std::string, int> started;
-  for (const std::string& line : p.lines("launch")) {
-    if (line.find("[arm ") == std::string::npos) continue;
-    const auto at = line.find(" goal ");
-    const auto colon = at == std::string::npos ? at : line.find(": ", at);
-    if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
-    ++started[line.substr(at + 6, colon - at - 6)];
-  }
+  const std::map<std::string, int> started = arm_goal_starts(p.lines("launch"));
   std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
   EXPECT_GE(started.size(), 6u) << "the arm was hardly sent anything";
   for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
@@ -178,9 +162,9 @@ TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
   const std::string summary = (dir / "summary.json").string();
   Processes p;
   p.start("launch", bin("ephor-launch"),
-          {source_path("deploy/shepherd.pbtxt"), "--headless", "--duration", "45", "--seed", "7",
+          {source_path("deploy/shepherd.pbtxt"), "--headless", "--duration", "30", "--seed", "7",
            "--sheep", "4", "--summary", summary});
-  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(90))) << "the run did not end";
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(75))) << "the run did not end";
   std::system("iptables -D INPUT -i lo -m statistic --mode random --probability 0.05 -j DROP");
   const nlohmann::json s = read_summary(summary);
   std::fprintf(stderr, "with 5 %% loss: objects %.1f Hz, saves %d, escapes %d, id switches %d\n",

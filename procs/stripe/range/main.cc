@@ -33,6 +33,7 @@
 #include "common/config/text_proto.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
+#include "common/lcm/inbox.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
@@ -98,17 +99,13 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
-    std::deque<stripe_profile_t> queue;
+    Inbox<stripe_profile_t> profiles_in(256);
     CloudAccumulator clouds(missing_timeout_s);
     std::map<int64_t, stripe_cloud_t> done;  // finished scans' messages (repeated on request)
     std::atomic<int64_t> stripes{0}, points{0}, bad{0};
 
     bus.subscribe<stripe_profile_t>(channels::kProfile, [&](const stripe_profile_t& m) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (queue.size() >= 256) queue.pop_front();
-        queue.push_back(m);
-      }
+      profiles_in.push(m);
       runtime.trigger("range");
     });
     bus.subscribe<stripe_scan_t>(channels::kScan, [&](const stripe_scan_t& m) {
@@ -123,14 +120,7 @@ int main(int argc, char** argv) {
     });
 
     runtime.add_triggered("range", std::chrono::milliseconds(100), [&] {
-      for (;;) {
-        stripe_profile_t m;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (queue.empty()) return;
-          m = std::move(queue.front());
-          queue.pop_front();
-        }
+      for (const stripe_profile_t& m : profiles_in.drain()) {
         std::string why;
         const Stripe stripe = stripe_of(m, &why);
         if (!why.empty()) {

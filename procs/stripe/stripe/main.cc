@@ -27,6 +27,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/lcm/bus.h"
+#include "common/lcm/inbox.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
@@ -82,33 +83,18 @@ int main(int argc, char** argv) {
     const StripeExtractor extractor(options);
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
-    std::mutex mutex;
-    std::deque<stripe_image_t> queue;
-    std::atomic<int64_t> profiles{0}, bad{0}, dropped{0};
+    Inbox<stripe_image_t> images_in(64);
+    std::atomic<int64_t> profiles{0}, bad{0};
 
     bus.subscribe<stripe_image_t>(channels::kImage, [&](const stripe_image_t& m) {
       if (m.mode != stripe_capture_t::MODE_STRIPE) return;  // the spot, for calibration
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (queue.size() >= 64) {
-          queue.pop_front();
-          ++dropped;
-          spdlog::warn("image queue full: the oldest image dropped ({} so far)", dropped.load());
-        }
-        queue.push_back(m);
-      }
+      if (!images_in.push(m))
+        spdlog::warn("image queue full: the oldest image dropped ({} so far)", images_in.dropped());
       runtime.trigger("extract");
     });
 
     runtime.add_triggered("extract", std::chrono::milliseconds(100), [&] {
-      for (;;) {
-        stripe_image_t m;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (queue.empty()) return;
-          m = std::move(queue.front());
-          queue.pop_front();
-        }
+      for (const stripe_image_t& m : images_in.drain()) {
         std::string why;
         const cv::Mat image = image_of(m, &why);
         if (image.empty()) {
@@ -144,7 +130,7 @@ int main(int argc, char** argv) {
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info("summary: {} profiles, {} images refused, {} dropped", profiles.load(), bad.load(),
-                 dropped.load());
+                 images_in.dropped());
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;
