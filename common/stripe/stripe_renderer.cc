@@ -19,6 +19,8 @@ StripeRenderer::StripeRenderer(const StripeScene& scene, CameraIntrinsics camera
   if (!(options_.laser.width_fwhm_mm > 0.0) || !(options_.laser.reference_range_mm > 0.0) ||
       !(options_.laser.fan_half_angle_rad > 0.0))
     throw std::invalid_argument("StripeRenderer: laser sheet sizes must be > 0");
+  if (options_.dot_radii_mm.size() != options_.dots_mm.size())
+    throw std::invalid_argument("StripeRenderer: one radius per target dot");
 }
 
 double StripeRenderer::sheet_sigma_mm(double range_mm) const {
@@ -128,9 +130,11 @@ cv::Mat StripeRenderer::render_ambient(const Eigen::Isometry3d& c, std::uint64_t
           if (hit->face >= 0) {
             sum += options_.object_grey * std::abs(hit->normal.z());
           } else {
-            const bool in_spot =
-                (hit->point.head<2>() - options_.spot_centre_mm).norm() <= options_.spot_radius_mm;
-            sum += in_spot ? options_.spot_grey : options_.table_grey;
+            const Eigen::Vector2d at = hit->point.head<2>();
+            bool dark = (at - options_.spot_centre_mm).norm() <= options_.spot_radius_mm;
+            for (size_t k = 0; !dark && k < options_.dots_mm.size(); ++k)
+              dark = (at - options_.dots_mm[k]).norm() <= options_.dot_radii_mm[k];
+            sum += dark ? options_.spot_grey : options_.table_grey;
           }
         }
       }

@@ -14,6 +14,7 @@
 // is linear within a pixel on a flat face), so sub-pixel centres are real.
 
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -37,6 +38,11 @@ struct StripeRendererOptions {
   double table_grey = 170.0;
   double spot_grey = 30.0;
   double object_grey = 120.0;  // objects, times the cosine of their slope
+  // A printed calibration target around the spot (DotTarget, for the
+  // hand-eye peer): dark discs at these centres (table frame, mm, on z = 0)
+  // with these radii (mm), drawn like the spot. None by default.
+  std::vector<Eigen::Vector2d> dots_mm;
+  std::vector<double> dot_radii_mm;
 };
 
 class StripeRenderer {
