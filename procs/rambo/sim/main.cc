@@ -1,10 +1,13 @@
 // ephor-rambo-sim: RAMBO's simulated world in real time (paper 001, section 2):
-// the free-floating target tumbling with constant momenta (TumblingBody), its
+// the free-floating target tumbling with constant momenta (TumblingBody) or,
+// with --carrier rm501, carried by a Mitsubishi RM-501 as in the paper's lab
+// (Rm501Carrier: 5 joints swinging smoothly, no constant twist), its
 // diodes and indicator electronics (DiodeIndicator), the PUMA 560's servo layer
 // (ArmServo, following ephor-arm's trajectories) with the laser and the camera
 // on its tool plate, the camera's frames (TargetRenderer) and ground truth.
 //
 //   ephor-rambo-sim --seed 1 --diodes 4 --summary out.json
+//   ephor-rambo-sim --seed 1 --carrier rm501
 //
 // Tasks: physics (2 ms: servo and indicator in 1 ms steps; ARM_SERVO every
 // 4 ms), camera (1/fps: CAMERA, RAMBO_TRUTH, RAMBO_FEATURES_ORACLE), indicator (50 ms:
@@ -52,6 +55,7 @@
 #include "common/rambo/pose_predictor.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
+#include "common/rambo/rm501_carrier.h"
 #include "common/rambo/tagging_planner.h"
 #include "common/rambo/target_model_file.h"
 #include "common/rambo/tumbling_body.h"
@@ -122,6 +126,7 @@ struct World {
   RamboCell cell;
   arm::Puma560 arm;
   TumblingBody body;
+  std::optional<Rm501Carrier> carrier;  // when set, the target rides on it instead of tumbling
   DiodeIndicator indicator;
   sim::ArmServo servo;
   std::optional<sim::JointTrajectory> pending;
@@ -157,6 +162,12 @@ struct World {
                   RamboCell::kRequiredS),
         servo(limits, cell.start_joints) {}
 
+  // The target in the base frame at t (mm), and its angular velocity (target frame, rad/s).
+  Eigen::Isometry3d target_at(double t_s) { return carrier ? carrier->pose(t_s) : body.pose(t_s); }
+  Eigen::Vector3d target_rates_at(double t_s) {
+    return carrier ? carrier->body_rates(t_s) : body.body_rates(t_s);
+  }
+
   int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
   double t_of(int64_t utime) const { return static_cast<double>(utime - wall0_us) * 1e-6; }
 
@@ -168,7 +179,7 @@ struct World {
     }
     servo.step(kStepS);
     clock_s += kStepS;
-    const Eigen::Isometry3d target = body.pose(clock_s);
+    const Eigen::Isometry3d target = target_at(clock_s);
     const Eigen::Isometry3d tool = arm.forward(servo.state().q);
     indicator.step(clock_s, target, tool.translation(), tool.linear().col(2));
     while (!pending_predictions.empty() && pending_predictions.front().t_eval_s <= clock_s) {
@@ -195,6 +206,7 @@ struct World {
     j["system"] = "rambo";
     j["seed"] = seed;
     j["spin_deg_s"] = spin_deg_s;
+    j["carrier"] = carrier ? "rm501" : "free";
     j["diodes"] = indicator.size();
     j["tagged"] = indicator.tagged_count();
     j["time_to_all_s"] = all_tagged_s >= 0 ? nlohmann::json(all_tagged_s) : nlohmann::json(nullptr);
@@ -300,8 +312,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.5, 60.0));
   app.add_option("--noise-px", noise_px, "oracle features: pixel noise sigma (default 0.5)")
       ->check(CLI::Range(0.0, 10.0));
-  app.add_option("--spin-deg-s", spin_deg_s, "target's initial spin rate, deg/s (default 2)")
+  app.add_option("--spin-deg-s", spin_deg_s,
+                 "target's initial spin rate, deg/s (default 2); with --carrier rm501 the arm's "
+                 "joint rates scale by spin/2")
       ->check(CLI::Range(0.0, 90.0));
+  std::string carrier = "free";
+  app.add_option("--carrier", carrier,
+                 "what moves the target: free (a free-floating tumble with constant momenta, as in "
+                 "space) or rm501 (carried by a 5-axis Mitsubishi RM-501, as in the paper's lab; "
+                 "common/rambo/rm501_carrier.h)")
+      ->check(CLI::IsMember({"free", "rm501"}));
   app.add_option("--drift-mm-s", drift_mm_s, "largest drift speed of its centre, mm/s (default 1)")
       ->check(CLI::Range(0.0, 200.0));
   app.add_option("--max-s", max_s, "end the run after this long, s (default 120)")
@@ -323,6 +343,14 @@ int main(int argc, char** argv) {
                       workcell_path, workcell.tool_length_mm, cell.tool_length_mm));
     const TumblingMotion motion = cell.draw_motion(seed, spin_deg_s, drift_mm_s);
     World w(cell, motion, arm::make_puma(workcell).limits());
+    if (carrier == "rm501") {
+      try {
+        w.carrier.emplace(motion.pose0, seed, spin_deg_s / 2.0);
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(
+            fmt::format("--carrier rm501 with --spin-deg-s {}: {}", spin_deg_s, e.what()));
+      }
+    }
     TargetRenderer renderer(cell.model, cell.camera, 3.0, seed);
     std::mt19937 feature_rng(static_cast<std::uint32_t>(seed * 7919u + 1u));
     cv::Mat image;
@@ -331,7 +359,7 @@ int main(int argc, char** argv) {
       return w.arm.forward(q) * w.cell.camera_in_tool;
     };
     if (!png_path.empty()) {
-      renderer.render(camera_in_base(cell.start_joints).inverse() * w.body.pose(0.0), image);
+      renderer.render(camera_in_base(cell.start_joints).inverse() * w.target_at(0.0), image);
       cv::imwrite(png_path, image);
       spdlog::info("wrote {}", png_path);
       return 0;
@@ -472,10 +500,10 @@ int main(int argc, char** argv) {
       {
         std::lock_guard<std::mutex> lock(w.mutex);
         advance_to_now();
-        target = w.body.pose(w.clock_s);
+        target = w.target_at(w.clock_s);
         camera = camera_in_base(w.servo.state().q);
         truth.utime = w.utime_of(w.clock_s);
-        const Eigen::Vector3d rates = w.body.body_rates(w.clock_s);
+        const Eigen::Vector3d rates = w.target_rates_at(w.clock_s);
         for (int k = 0; k < 3; ++k) truth.body_rates_rad_s[k] = rates[k];
         w.truth_by_utime[truth.utime] = target;
         while (w.truth_by_utime.size() > 600) w.truth_by_utime.erase(w.truth_by_utime.begin());
@@ -566,9 +594,10 @@ int main(int argc, char** argv) {
 
     runtime.start();
     spdlog::info(
-        "running: seed {}, {} diodes (acceptance {} deg, lens radius {} mm, {} s lit), spin {} "
-        "deg/s, {} fps, oracle features with {} px noise",
-        seed, diodes, RamboCell::kAcceptanceDeg, RamboCell::kLensRadiusMm, RamboCell::kRequiredS,
+        "running: seed {}, target {}, {} diodes (acceptance {} deg, lens radius {} mm, {} s lit), "
+        "spin {} deg/s, {} fps, oracle features with {} px noise",
+        seed, carrier == "rm501" ? "carried by the RM-501" : "free-floating, constant momenta",
+        diodes, RamboCell::kAcceptanceDeg, RamboCell::kLensRadiusMm, RamboCell::kRequiredS,
         spin_deg_s, fps, noise_px);
     const auto t_end =
         duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;

@@ -16,7 +16,7 @@ const ctx = canvas.getContext('2d');
 const view = $('view');
 let three = null;  // { renderer, scene, cam, estimated, truth, diodes[], camera, beam }
 let model = null;
-let yaw = -2.4, pitch = 0.45, dist = 2600, centre = [600, 0, 300];
+let yaw = -2.4, pitch = 0.45, dist = 1500, centre = [750, 0, 200];
 
 function matrixOf(p) {  // {r: row-major 9, t_mm: 3} -> THREE.Matrix4
   const r = p.r, t = p.t_mm;
@@ -122,7 +122,8 @@ function update3d(s) {
   if (p.true) {
     three.truth.matrix.copy(matrixOf(p.true));
     three.truth.visible = true;
-    centre = [(p.true.t_mm[0] + 200) / 2, p.true.t_mm[1] / 2, (p.true.t_mm[2] + 400) / 2];
+    // Between the target and the arm's reach, towards the target.
+    centre = [0.8 * p.true.t_mm[0], 0.8 * p.true.t_mm[1], 0.8 * p.true.t_mm[2] + 60];
   }
   if (p.camera) {
     three.camera.position.set(...p.camera.t_mm);
@@ -226,7 +227,7 @@ function drawSide(s) {
     `<td>${d.beam_offset_mm === null ? '–' : (d.beam_offset_mm > 9999 ? '–' : fmt(d.beam_offset_mm, 0))}</td></tr>`).join('');
   const e = s.pose.estimated, tr = s.pose.true, n = s.pose.newest;
   $('pose-kv').innerHTML =
-    (e ? `<div>estimated (frame ${e.frame_index}) <b>${e.t_mm.map((x) => fmt(x, 0)).join(', ')}</b> mm</div>` : '<div>no pose found yet</div>') +
+    (e ? `<div>estimated (frame ${e.frame_index}${tr && tr.frame_index > e.frame_index ? ', ' + (tr.frame_index - e.frame_index) + ' frames ago' : ''}) <b>${e.t_mm.map((x) => fmt(x, 0)).join(', ')}</b> mm</div>` : '<div>no pose found yet</div>') +
     (tr ? `<div>true (frame ${tr.frame_index}) <b>${tr.t_mm.map((x) => fmt(x, 0)).join(', ')}</b> mm</div>` : '') +
     (e && e.error_mm !== null ? `<div>error <b>${fmt(e.error_mm, 1)} mm, ${fmt(e.error_deg, 2)}°</b></div>` : '') +
     (n ? `<div>newest: ${n.found ? 'found' : 'no pose'}${n.pruned ? ', pruned by the prior' : ''}, ${fmt(n.pose_ms, 2)} ms</div>` : '');
