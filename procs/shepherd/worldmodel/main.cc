@@ -186,6 +186,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-obscured-s", config.max_obscured_s,
                  "an object hidden this long is dropped (dead), s")
       ->check(CLI::PositiveNumber);
+  app.add_option("--obscured-gate-px", config.obscured_gate_px,
+                 "base radius of the gate in which a hidden object takes a blob again, px "
+                 "(it grows with the time hidden)")
+      ->check(CLI::Range(1.0, 500.0));
   app.add_option("--deadline-ms", deadline_ms, "deadline of the associate task, ms")
       ->check(CLI::PositiveNumber);
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
