@@ -1,5 +1,6 @@
 #include "common/rambo/diode_indicator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -54,6 +55,12 @@ void DiodeIndicator::step(double t_s, const Eigen::Isometry3d& target_in_base,
   lit_s_ = lit_ >= 0 ? t_s - lit_since_s_ : 0.0;
   if (lit_ >= 0 && lit_s_ >= required_s_ && !tagged(lit_))
     tagged_at_s_[static_cast<std::size_t>(lit_)] = t_s;
+}
+
+void DiodeIndicator::reset_tags(double t_s) {
+  std::fill(tagged_at_s_.begin(), tagged_at_s_.end(), -1.0);
+  lit_since_s_ = t_s;
+  lit_s_ = 0.0;
 }
 
 int DiodeIndicator::tagged_count() const {

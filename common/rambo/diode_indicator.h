@@ -39,6 +39,10 @@ class DiodeIndicator {
   void step(double t_s, const Eigen::Isometry3d& target_in_base,
             const Eigen::Vector3d& beam_origin_mm, const Eigen::Vector3d& beam_dir);
 
+  // Every diode untagged again (the demo's next round): a diode lit now
+  // must stay lit the required duration from here to be tagged again.
+  void reset_tags(double t_s);
+
   int size() const { return static_cast<int>(diodes_.size()); }
   int lit_diode() const { return lit_; }   // -1 = none
   double lit_s() const { return lit_s_; }  // unbroken, s

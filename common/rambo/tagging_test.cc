@@ -62,6 +62,16 @@ TEST(DiodeIndicator, TagsAfterTheRequiredUnbrokenDuration) {
   // NaN beam: no beam, no crash.
   ind.step(1.8, target, Eigen::Vector3d::Constant(std::nan("")), dir);
   EXPECT_EQ(ind.lit_diode(), -1);
+  // The demo's next round: untagged, and tagged again only after a full
+  // second lit from the reset, even with the beam held on it throughout.
+  for (int k = 19; k <= 20; ++k) ind.step(0.1 * k, target, on.translation(), dir);
+  ind.reset_tags(2.0);
+  EXPECT_FALSE(ind.tagged(0));
+  EXPECT_EQ(ind.tagged_count(), 0);
+  ind.step(2.9, target, on.translation(), dir);
+  EXPECT_FALSE(ind.tagged(0));
+  ind.step(3.05, target, on.translation(), dir);
+  EXPECT_TRUE(ind.tagged(0));
 }
 
 TEST(TaggingPlanner, OrdersTheOpenDiodesAndAimsAtTheFirst) {

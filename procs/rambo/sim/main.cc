@@ -134,7 +134,9 @@ struct World {
   int64_t wall0_us = 0, mono0_ns = 0;
   int ticks = 0;
   int logged_tagged = 0;
-  double all_tagged_s = -1.0;
+  double all_tagged_s = -1.0;  // when every diode was first tagged (the first round)
+  double round_done_s = -1.0;  // when every diode was tagged in this round
+  int rounds_done = 0;
   std::atomic<int64_t> frames{0}, refused{0};
   // Summary material.
   std::map<int64_t, Eigen::Isometry3d> truth_by_utime;  // frame capture -> target in base
@@ -195,7 +197,10 @@ struct World {
       logged_tagged = indicator.tagged_count();
       spdlog::info("diode {} tagged at {:.2f} s ({} of {})", indicator.lit_diode(), clock_s,
                    logged_tagged, indicator.size());
-      if (logged_tagged == indicator.size()) all_tagged_s = clock_s;
+      if (logged_tagged == indicator.size()) {
+        if (all_tagged_s < 0) all_tagged_s = clock_s;
+        round_done_s = clock_s;
+      }
     }
   }
 
@@ -209,6 +214,7 @@ struct World {
     j["carrier"] = carrier ? "rm501" : "free";
     j["diodes"] = indicator.size();
     j["tagged"] = indicator.tagged_count();
+    j["rounds_completed"] = rounds_done;
     j["time_to_all_s"] = all_tagged_s >= 0 ? nlohmann::json(all_tagged_s) : nlohmann::json(nullptr);
     nlohmann::json tasks = nlohmann::json::array();
     std::vector<std::pair<double, int>> done;
@@ -324,6 +330,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"free", "rm501"}));
   app.add_option("--drift-mm-s", drift_mm_s, "largest drift speed of its centre, mm/s (default 1)")
       ->check(CLI::Range(0.0, 200.0));
+  int rounds = 1;
+  app.add_option(
+         "--rounds", rounds,
+         "rounds of tagging: after every diode is tagged, all are untagged again and the "
+         "next round starts, until this many are done (0 = until stopped or --max-s; "
+         "default 1). The summary's time_to_all_s is the first round's, its tags the last round's")
+      ->check(CLI::Range(0, 1000000));
   app.add_option("--max-s", max_s, "end the run after this long, s (default 120)")
       ->check(CLI::Range(1.0, 36000.0));
   app.add_option("--workcell", workcell_path, "work cell file (common/geometry/workcell.proto)");
@@ -586,8 +599,19 @@ int main(int argc, char** argv) {
                 m.beam_offset_mm[static_cast<std::size_t>(i)], ind.tagged(i) ? " (tagged)" : "");
           spdlog::info("beam at {:.0f} s:{}", w.clock_s, line);
         }
-        if ((w.all_tagged_s >= 0 && w.clock_s > w.all_tagged_s + 1.0) || w.clock_s > max_s)
-          finished = true;
+        if (w.round_done_s >= 0 && w.clock_s > w.round_done_s + 1.0) {
+          ++w.rounds_done;
+          if (rounds == 0 || w.rounds_done < rounds) {
+            spdlog::info("round {} done at {:.1f} s: every diode untagged, the next round starts",
+                         w.rounds_done, w.clock_s);
+            w.indicator.reset_tags(w.clock_s);
+            w.round_done_s = -1.0;
+            w.logged_tagged = 0;
+          } else {
+            finished = true;
+          }
+        }
+        if (w.clock_s > max_s) finished = true;
       }
       bus.publish(rambo::channels::kIndicator, m);
     });
