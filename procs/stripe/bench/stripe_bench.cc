@@ -3,14 +3,20 @@
 // (image to 3-D points), whole-scene accuracy against the true surfaces,
 // and, with a seeded imperfect robot, the direction-dependent error of a
 // pyramid's apex before and after each calibration stage (sections 3 and
-// 4), with the zero references found against the truth.
+// 4), with the zero references, the camera and the projector found against
+// the truth; the peer in the same run, OpenCV's hand-eye calibrations
+// (calibrateHandEye, calibrateRobotWorldHandEye) for the camera's pose on
+// the flange on the zero-reference step's own images (the dot target,
+// DotTarget); and the stripes per second scanned with the arm moving
+// through the processes (tools/ephor stripe scan).
 //
 //   ephor-bench-stripe [--json FILE] [--out-dir DIR] [--seed N] [--robot-seeds N]
-//                      [--sections random,scene,direction]
+//                      [--sections random,scene,direction,scan]
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -19,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -26,6 +34,8 @@
 #include "common/stripe/calibration_refiner.h"
 #include "common/stripe/cloud_file.h"
 #include "common/stripe/direction_error.h"
+#include "common/stripe/dot_target.h"
+#include "common/stripe/hand_eye_peer.h"
 #include "common/stripe/plane_fit.h"
 #include "common/stripe/sensor_calibrator.h"
 #include "common/stripe/stripe_scan.h"
@@ -191,6 +201,49 @@ nlohmann::json whole_scene(const std::string& scenes, std::uint64_t seed,
   return out;
 }
 
+// A rig that keeps the filter-removed images it takes (with their joint
+// readings) while `recording`: the zero-reference step's views, for the
+// hand-eye peer, which then works on the very images our fit used.
+class RecordingRig : public CalibrationRig {
+ public:
+  explicit RecordingRig(CalibrationRig& inner) : inner_(&inner) {}
+  cv::Mat stripe_image(const arm::Joints& q) override { return inner_->stripe_image(q); }
+  cv::Mat spot_image(const arm::Joints& q) override {
+    cv::Mat image = inner_->spot_image(q);
+    if (recording) taken.push_back({inner_->readings(q), image});
+    return image;
+  }
+  arm::Joints readings(const arm::Joints& commanded) const override {
+    return inner_->readings(commanded);
+  }
+  struct Taken {
+    arm::Joints readings;
+    cv::Mat image;
+  };
+  bool recording = false;
+  std::vector<Taken> taken;
+
+ private:
+  CalibrationRig* inner_;
+};
+
+double rotation_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180 / kPi;
+}
+
+// The camera's true pose on the flange as an arm model whose joint 6 zero
+// reference is model_zero6 (rad) and whose link 6 is the drawing's can see
+// it: link 6's true zero-reference and DH errors folded in.
+Eigen::Isometry3d camera_seen_by(const RobotTruth& truth, double model_zero6) {
+  const arm::DhLink& l6 = truth.arm.errors().dh_error[5];
+  const Eigen::Isometry3d e6 =
+      Eigen::AngleAxisd(truth.arm.errors().zero_offset_rad[5] - model_zero6,
+                        Eigen::Vector3d::UnitZ()) *
+      Eigen::Translation3d(l6.a_mm, 0.0, l6.d_mm) *
+      Eigen::AngleAxisd(l6.alpha_rad, Eigen::Vector3d::UnitX());
+  return e6 * truth.cage.camera_in_flange;
+}
+
 // D: the pyramid's apex from 20 views (section 5) by robots whose arm and
 // cage differ from the nominal model (per robot seed), after each stage of
 // calibration: the nominal model (none), section 4 alone, section 3's zero
@@ -199,8 +252,8 @@ nlohmann::json whole_scene(const std::string& scenes, std::uint64_t seed,
 // Every calibration runs on the empty table (its spot at the origin)
 // through the rig, with image noise; the figures are on the pyramid.
 nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed, int robot_seeds,
-                                   nlohmann::json& calibration,
-                                   nlohmann::json& calibration_refined) {
+                                   nlohmann::json& calibration, nlohmann::json& calibration_refined,
+                                   nlohmann::json& hand_eye) {
   const StripeScene scene = StripeScene::load(scene_path(scenes, "pyramid"));
   const Eigen::Vector3d apex(0, 0, 60);
   const auto views = section5_views();
@@ -209,11 +262,18 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
       "Direction-dependent error (section 5): pyramid apex from %zu views (approach "
       "down / tilted 25 deg from +-x, +-y; stripes along x / y; 270 / 330 mm)\n",
       views.size());
-  std::printf("  %-10s %-44s %8s %14s %14s %9s %9s %9s\n", "robot", "model", "located",
-              "worst_shift_mm", "worst_abs_mm", "cam_deg", "cam_rot", "plane_deg");
+  std::printf("  %-10s %-44s %8s %14s %14s %9s %9s %9s %9s %9s\n", "robot", "model", "located",
+              "worst_shift_mm", "worst_abs_mm", "cam_deg", "cam_rot", "cam_mm", "plane_deg",
+              "plane_mm");
   const StripeScene table;  // calibration on the empty table, its spot at the origin
   const Eigen::Vector2d spot(0, 0);
   const StripeWorkcell cell;
+  // The dot target printed around the spot, for the hand-eye peer; the
+  // spot's sightings are the same with it (DotTarget).
+  const DotTarget target(spot);
+  StripeRendererOptions table_options;
+  table_options.dots_mm = target.dots_in_table();
+  table_options.dot_radii_mm = target.dot_radii_mm();
   struct ZeroRow {
     int robot_seed;
     arm::Joints truth, found;
@@ -232,8 +292,9 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
   for (int rs = 0; rs <= robot_seeds; ++rs) {
     const RobotTruth truth = rs == 0 ? RobotTruth::ideal() : RobotTruth::draw(rs);
     const StripeWorld world(scene, cell, truth);
-    const StripeWorld bench_table(table, cell, truth);
-    SimulatedRig rig(bench_table, seed + 1000);
+    const StripeWorld bench_table(table, cell, truth, table_options);
+    SimulatedRig sim_rig(bench_table, seed + 1000);
+    RecordingRig rig(sim_rig);
     const std::string robot = rs == 0 ? "ideal" : "seed " + std::to_string(rs);
     nlohmann::json j = {{"robot_seed", rs}, {"views", views.size()}};
     for (double z : truth.arm.errors().zero_offset_rad)
@@ -270,9 +331,15 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
               std::clamp(std::abs(cal.projector_in_flange.linear().col(0).dot(tp.linear().col(0))),
                          -1.0, 1.0)) *
           180 / kPi;
-      std::printf("  %-10s %-44s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f %9.3f\n", robot.c_str(),
-                  name.c_str(), e.located, views.size(), e.worst_from_mean_mm,
-                  e.worst_from_truth_mm, cam_axis_err, cam_rot_err, plane_err);
+      // Positions: the camera's centre, and the believed projector origin's
+      // distance from the true light plane (flange frame, mm).
+      const double cam_pos_err = (cal.camera_in_flange.translation() - tc.translation()).norm();
+      const double plane_off_err = std::abs(
+          tp.linear().col(0).dot(cal.projector_in_flange.translation() - tp.translation()));
+      std::printf("  %-10s %-44s %5d/%-2zu %14.3f %14.3f %9.3f %9.3f %9.3f %9.3f %9.3f\n",
+                  robot.c_str(), name.c_str(), e.located, views.size(), e.worst_from_mean_mm,
+                  e.worst_from_truth_mm, cam_axis_err, cam_rot_err, cam_pos_err, plane_err,
+                  plane_off_err);
       std::fflush(stdout);
       nlohmann::json apexes = nlohmann::json::array();
       for (size_t v = 0; v < views.size(); ++v)
@@ -290,7 +357,9 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
                              {"worst_from_true_apex_mm", e.worst_from_truth_mm},
                              {"camera_axis_error_deg", cam_axis_err},
                              {"camera_rotation_error_deg", cam_rot_err},
-                             {"light_plane_normal_error_deg", plane_err}});
+                             {"camera_position_error_mm", cam_pos_err},
+                             {"light_plane_normal_error_deg", plane_err},
+                             {"light_plane_offset_error_mm", plane_off_err}});
     };
     auto failed = [&](const std::string& name, const CalibrationError& e) {
       std::printf("  %-10s %-44s failed: %s\n", robot.c_str(), name.c_str(), e.what());
@@ -298,7 +367,7 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     };
     // Section 4's steps from `cal` on the arm `model`, each a row.
     auto section4 = [&](const std::string& prefix, const TrueArm& model, SensorCalibration cal,
-                        bool aim, bool scale) {
+                        bool aim, bool scale) -> SensorCalibration {
       std::string name = prefix;
       try {
         if (aim) {
@@ -327,6 +396,69 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
       } catch (const CalibrationError& e) {
         failed(name + " (next step)", e);
       }
+      return cal;
+    };
+    // The peer: OpenCV's hand-eye methods on the zero-reference step's own
+    // images (every arm branch), those where the whole dot target is seen;
+    // the flange poses from the joint readings through an arm model: the
+    // nominal one (all a peer has), ours (the zero references found), the
+    // true zero references (an oracle) and the true arm (links too: what
+    // the peer's methods and PnP alone leave).
+    nlohmann::json he = {{"robot_seed", rs}};
+    auto hand_eye_peer = [&](const ZeroReferenceResult& z) {
+      std::vector<std::pair<arm::Joints, Eigen::Isometry3d>> sighted;
+      std::vector<double> rms;
+      for (const RecordingRig::Taken& t : rig.taken)
+        if (const auto s = target.find(t.image, SensorCalibration::drawing_cage().camera)) {
+          sighted.push_back({t.readings, s->target_in_camera});
+          rms.push_back(s->rms_px);
+        }
+      he["images"] = rig.taken.size();
+      he["spot_sightings"] = z.sightings;
+      he["target_views"] = sighted.size();
+      he["pnp_rms_px_p50"] = percentile(rms, 50);
+      he["pnp_rms_px_max"] = percentile(rms, 100);
+      struct Kinematics {
+        const char* name;
+        TrueArm arm;
+        double zero6;
+      };
+      const std::vector<Kinematics> models = {
+          {"nominal", TrueArm::nominal(), 0.0},
+          {"our zero refs", TrueArm::with_zero_offsets(z.zero_offset_rad), 0.0},
+          {"true zero refs", TrueArm::with_zero_offsets(truth.arm.errors().zero_offset_rad),
+           truth.arm.errors().zero_offset_rad[5]},
+          {"true arm", truth.arm, 0.0}};
+      for (const Kinematics& k : models) {
+        std::vector<HandEyeView> all;
+        for (const auto& [q, t] : sighted) all.push_back({k.arm.flange(q), t});
+        const bool exact = std::string(k.name) == "true arm";
+        const Eigen::Isometry3d want =
+            exact ? truth.cage.camera_in_flange : camera_seen_by(truth, k.zero6);
+        // Every target view, and the largest set within 120 deg of each
+        // other (views_within: what TSAI and DANIILIDIS need).
+        std::vector<HandEyeView> within = views_within(all, 120.0);
+        he["views_within_120_deg"] = within.size();
+        for (const auto& [set, v] : {std::pair{"all", &all}, std::pair{"within 120 deg", &within}})
+          for (HandEyeMethod m : kHandEyeMethods) {
+            nlohmann::json r = {{"method", hand_eye_method_name(m)},
+                                {"kinematics", k.name},
+                                {"views", set},
+                                {"view_count", v->size()}};
+            try {
+              const auto c0 = std::chrono::steady_clock::now();
+              const Eigen::Isometry3d got = solve_hand_eye(*v, m);
+              r["ms"] =
+                  std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0)
+                      .count();
+              r["position_error_mm"] = (got.translation() - want.translation()).norm();
+              r["rotation_error_deg"] = rotation_deg(got, want);
+            } catch (const std::exception& e) {
+              r["error"] = e.what();
+            }
+            he["peer"].push_back(r);
+          }
+      }
     };
     const SensorCalibration drawing = SensorCalibration::drawing_cage();
     row("nominal arm, drawing cage", TrueArm::nominal(), drawing, {});
@@ -340,7 +472,9 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     // zero-reference fit found with the joints.
     try {
       const ZeroReferenceCalibrator zc(cell);
+      rig.recording = true;
       const ZeroReferenceResult z = zc.calibrate(rig, TrueArm::nominal(), drawing);
+      rig.recording = false;
       const TrueArm zeroed = TrueArm::with_zero_offsets(z.zero_offset_rad);
       const Eigen::Isometry3d& fc = z.updated.camera_in_flange;
       zero_rows.push_back(
@@ -353,7 +487,22 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
                            {"lefty_righty_gap_after_mm", z.lefty_righty_gap_after_mm}};
       for (int k = 0; k < 6; ++k) zj["correction_deg"].push_back(z.correction_rad[k] * 180 / kPi);
       row("zero refs, drawing cage", zeroed, drawing, zj);
-      section4("zero refs", zeroed, drawing, true, true);
+      const SensorCalibration paper_sequence = section4("zero refs", zeroed, drawing, true, true);
+      he["ours"].push_back(
+          {{"method", "paper's sequence: zero refs by the camera, camera aim, scale/roll"},
+           {"position_error_mm", (paper_sequence.camera_in_flange.translation() -
+                                  camera_seen_by(truth, 0.0).translation())
+                                     .norm()},
+           {"rotation_error_deg",
+            rotation_deg(paper_sequence.camera_in_flange, camera_seen_by(truth, 0.0))}});
+      he["ours"].push_back(
+          {{"method", "zero-reference fit (section 3 by the camera, C_T in 6 dof)"},
+           {"position_error_mm",
+            (z.updated.camera_in_flange.translation() - camera_seen_by(truth, 0.0).translation())
+                .norm()},
+           {"rotation_error_deg",
+            rotation_deg(z.updated.camera_in_flange, camera_seen_by(truth, 0.0))}});
+      hand_eye_peer(z);
       row("zero refs, fitted C_T", zeroed, z.updated, zj);
       // Section 4's projector step on the fitted C_T, then one refinement
       // of everything over the spot sightings and stripes on the table.
@@ -389,6 +538,14 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
             fj["correction_deg"].push_back(f.correction_rad[k] * 180 / kPi);
           row(links ? "+ refinement with link errors" : "+ refinement (zero refs, C_T, plane)",
               f.arm, f.updated, fj);
+          he["ours"].push_back(
+              {{"method", links ? "Ceres refinement with links 1-5"
+                                : "Ceres refinement (zero refs, C_T, light plane)"},
+               {"position_error_mm", (f.updated.camera_in_flange.translation() -
+                                      camera_seen_by(truth, 0.0).translation())
+                                         .norm()},
+               {"rotation_error_deg",
+                rotation_deg(f.updated.camera_in_flange, camera_seen_by(truth, 0.0))}});
           // Against the truth as the refined model can see it: link 6 (its
           // zero reference and DH errors) goes into C_T and S_T.
           const arm::DhLink& l6 = truth.arm.errors().dh_error[5];
@@ -418,6 +575,7 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     row("oracle zero refs, drawing cage", oracle, drawing, {});
     section4("oracle zero refs", oracle, drawing, true, false);
     out.push_back(j);
+    if (!he["ours"].empty()) hand_eye.push_back(he);
   }
   std::printf("  paper: worst +-%.0f mm; target <= %.0f mm worst after calibration\n",
               paper::kDirectionErrorMm, target::kDirectionErrorMm);
@@ -492,6 +650,94 @@ nlohmann::json direction_dependent(const std::string& scenes, std::uint64_t seed
     c["light_plane_offset_error_mm"] = f.plane_mm;
     calibration_refined.push_back(c);
   }
+  std::printf(
+      "Camera on the flange against the truth (link 6 folded in): OpenCV's hand-eye peers on the"
+      " zero-reference step's images with the whole dot target in view (PnP), flange poses by"
+      " each arm model; ours beside them\n");
+  for (const nlohmann::json& h : hand_eye) {
+    std::printf(
+        "  seed %-3d %zu images, %zu spot sightings, %zu target views (PnP rms p50 %.3f px)\n",
+        h["robot_seed"].get<int>(), h.value("images", size_t{0}),
+        h.value("spot_sightings", size_t{0}), h.value("target_views", size_t{0}),
+        h.value("pnp_rms_px_p50", 0.0));
+    std::string kin;
+    for (const nlohmann::json& r : h.value("peer", nlohmann::json::array())) {
+      const std::string here = r["kinematics"].get<std::string>() + ", " +
+                               r["views"].get<std::string>() + " (" +
+                               std::to_string(r["view_count"].get<size_t>()) + " views)";
+      if (here != kin) {
+        kin = here;
+        std::printf("    peer, %s arm model:\n", kin.c_str());
+      }
+      if (r.contains("error"))
+        std::printf("      %-12s failed: %s\n", r["method"].get<std::string>().c_str(),
+                    r["error"].get<std::string>().c_str());
+      else
+        std::printf("      %-12s %8.3f mm %8.4f deg\n", r["method"].get<std::string>().c_str(),
+                    r["position_error_mm"].get<double>(), r["rotation_error_deg"].get<double>());
+    }
+    for (const nlohmann::json& r : h["ours"])
+      std::printf("    ours: %-66s %8.3f mm %8.4f deg\n", r["method"].get<std::string>().c_str(),
+                  r["position_error_mm"].get<double>(), r["rotation_error_deg"].get<double>());
+  }
+  return out;
+}
+
+// E: stripes per second scanned with the arm moving, through the processes
+// (tools/ephor stripe scan: the simulator, stripe, range, planner, comm and
+// the shared arm, headless): the flat plate's 9-stripe raster and the
+// pyramid's 51 stripes in 3 passes; each scan's summary as the planner
+// wrote it. The scan's speed is the arm's (procs/stripe/README.md).
+nlohmann::json scanned_speed(const std::string& scenes, const std::string& out_dir) {
+  struct Job {
+    const char* name;
+    const char* region;
+  };
+  const std::vector<Job> jobs = {{"flat_plate", "-40,-30,40,30"}, {"pyramid", "-80,-70,80,70"}};
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() /
+      ("ephor-bench-stripe-" + std::to_string(static_cast<long>(::getpid())));
+  std::filesystem::create_directories(tmp);
+  nlohmann::json out;
+  bool ok = true;
+  std::printf(
+      "Stripes per second scanned with the arm moving (tools/ephor stripe scan, the processes"
+      " headless, robot seed 0, 10 mm steps)\n");
+  std::printf("  %-11s %8s %8s %10s %12s %10s %14s\n", "scene", "stripes", "points", "elapsed_s",
+              "stripes/s", "motion_s", "cpu_us/stripe");
+  for (const Job& j : jobs) {
+    const std::string summary = (tmp / (std::string(j.name) + ".json")).string();
+    const std::string cloud = out_dir.empty() ? (tmp / (std::string(j.name) + ".ply")).string()
+                                              : out_dir + "/" + j.name + "_scanned.ply";
+    const std::string cmd = "'" + resolve_repo_path("tools/ephor") + "' stripe scan --scene '" +
+                            scene_path(scenes, j.name) + "' --region=" + j.region +
+                            " --step-mm 10 --out '" + cloud + "' --summary '" + summary + "' > '" +
+                            (tmp / "scan.log").string() + "' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    nlohmann::json r;
+    if (std::FILE* f = std::fopen(summary.c_str(), "r")) {
+      r = nlohmann::json::parse(f, nullptr, false);
+      std::fclose(f);
+    }
+    if (r.is_discarded() || !r.is_object()) r = nlohmann::json::object();
+    r["exit_status"] = rc;
+    if (rc != 0 || r.value("state", "") != "done") {
+      const std::string why = r.value("reason", "no summary (see " + cmd + ")");
+      std::printf("  %-11s failed after %d of %d stripes: %s\n", j.name,
+                  r.value("stripes_captured", 0), r.value("stripes_planned", 0), why.c_str());
+      ok = false;
+    } else {
+      std::printf("  %-11s %8d %8d %10.2f %12.2f %10.2f %14.0f\n", j.name,
+                  r.value("stripes_captured", 0), r.value("cloud_points", 0),
+                  r.value("elapsed_s", 0.0), r.value("stripes_per_s_scanned", 0.0),
+                  r.value("motion_s", 0.0), r.value("processing_cpu_us_per_stripe", 0.0));
+    }
+    out[j.name] = r;
+  }
+  // The scans' log stays for a failed scan.
+  if (ok) std::filesystem::remove_all(tmp);
+  out["paper_stripes_per_s"] = paper::kStripesPerSecond;
+  std::printf("  paper: %.1f stripes/s with arm motion (\"3 or 4\")\n", paper::kStripesPerSecond);
   return out;
 }
 
@@ -502,7 +748,7 @@ int main(int argc, char** argv) {
   using namespace ephor::stripe;
   CLI::App app{"ephor-bench-stripe: paper 004's figures (section 5) on this machine"};
   std::string json_path, out_dir, scenes = "deploy/stripe/scenes",
-                                  sections = "random,scene,direction";
+                                  sections = "random,scene,direction,scan";
   std::uint64_t seed = 1;
   int robot_seeds = 3;
   app.add_option("--json", json_path, "write the results as JSON");
@@ -511,7 +757,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "first image-noise seed");
   app.add_option("--sections", sections,
                  "which parts to run, comma-separated: random, scene, direction (with the"
-                 " calibration)");
+                 " calibration and the hand-eye peer), scan (the processes' scans, for the"
+                 " stripes per second with the arm moving)");
   app.add_option("--robot-seeds", robot_seeds,
                  "imperfect robots (seeds 1..N) for the direction-dependent error")
       ->check(CLI::Range(0, 1000));
@@ -527,9 +774,9 @@ int main(int argc, char** argv) {
   for (size_t start = 0; start <= sections.size();) {
     const size_t comma = std::min(sections.find(',', start), sections.size());
     const std::string name = sections.substr(start, comma - start);
-    if (name != "random" && name != "scene" && name != "direction") {
+    if (name != "random" && name != "scene" && name != "direction" && name != "scan") {
       std::cerr << "ephor-bench-stripe: --sections: unknown section \"" << name
-                << "\" (random, scene, direction)\n";
+                << "\" (random, scene, direction, scan)\n";
       return 2;
     }
     wanted.insert(name);
@@ -544,12 +791,15 @@ int main(int argc, char** argv) {
     if (wanted.count("random")) out["random_error"] = random_error_and_speed(scenes, seed, out_dir);
     if (wanted.count("scene")) out["whole_scene"] = whole_scene(scenes, seed, out_dir);
     if (wanted.count("direction")) {
-      nlohmann::json calibration, refined = nlohmann::json::array();
+      nlohmann::json calibration, refined = nlohmann::json::array(),
+                                  hand_eye = nlohmann::json::array();
       out["direction_dependent"] =
-          direction_dependent(scenes, seed, robot_seeds, calibration, refined);
+          direction_dependent(scenes, seed, robot_seeds, calibration, refined, hand_eye);
       out["calibration"] = calibration;
       out["calibration_refined"] = refined;
+      out["hand_eye"] = hand_eye;
     }
+    if (wanted.count("scan")) out["scanned"] = scanned_speed(scenes, out_dir);
     out["paper_direction_error_mm"] = paper::kDirectionErrorMm;
     out["target_direction_error_mm"] = target::kDirectionErrorMm;
     if (!json_path.empty()) {
