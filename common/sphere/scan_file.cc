@@ -67,6 +67,11 @@ std::vector<ScanLine> ScanFile::read(std::istream& in, const std::string& name) 
     }
     Pulse p;
     p.t_s = parse_number(fields[0], "t_s", false, name, line_no);
+    if (std::abs(p.t_s) > kMaxTimeS) {
+      refuse(name, line_no,
+             "t_s '" + trim(fields[0]) + "' is beyond +-" +
+                 std::to_string(static_cast<long long>(kMaxTimeS)) + " s");
+    }
     const double line_value = parse_number(fields[1], "line", false, name, line_no);
     if (line_value != std::floor(line_value) || std::abs(line_value) > 9.0e15) {
       refuse(name, line_no, "line '" + trim(fields[1]) + "' is not an integer");
@@ -127,7 +132,13 @@ std::vector<Window> split_windows(const std::vector<ScanLine>& lines, double win
   for (const ScanLine& line : lines) {
     for (const Pulse& p : line.pulses) {
       if (p.t_s < 0.0) continue;  // windows start at t = 0
-      const auto k = static_cast<size_t>(std::floor(p.t_s / window_s));
+      const double kd = std::floor(p.t_s / window_s);
+      if (!(kd < kMaxWindows))
+        throw std::invalid_argument("split_windows: a pulse at " + std::to_string(p.t_s) +
+                                    " s would need more than " +
+                                    std::to_string(static_cast<long long>(kMaxWindows)) +
+                                    " windows of " + std::to_string(window_s) + " s");
+      const auto k = static_cast<size_t>(kd);
       while (windows.size() <= k) {
         Window w;
         w.t_begin_s = static_cast<double>(windows.size()) * window_s;

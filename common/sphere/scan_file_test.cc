@@ -53,6 +53,17 @@ TEST(ScanFileTest, RefusesAWrongColumnCount) {
   EXPECT_EQ(error_of(kHead + "0.0,0,0.01,0.0,5,\n"), "scan.csv:2: expected 5 columns, found 6");
 }
 
+TEST(ScanFileTest, RefusesATimeBeyondTheLimitAndTooManyWindows) {
+  // Found by the fuzz target sphere_scan: t_s = 1.7e46 s made split_windows
+  // cast out of range; 1e9 s would have made two billion empty windows.
+  EXPECT_NE(error_of(kHead + "1e9,0,0.01,0.0,5\n").find("scan.csv:2: t_s '1e9' is beyond"),
+            std::string::npos);
+  std::istringstream in(kHead + "0,0,0.01,0.0,5\n99999,0,0.01,0.0,5\n");
+  const auto lines = ScanFile::read(in, "scan.csv");
+  EXPECT_EQ(split_windows(lines, 0.5).size(), 199999u);
+  EXPECT_THROW(split_windows(lines, 0.01), std::invalid_argument);
+}
+
 TEST(ScanFileTest, RefusesTimeGoingBackwards) {
   EXPECT_NE(error_of(kHead + "0.5,0,0.01,0.0,5\n0.4,0,0.01,0.0,5\n")
                 .find("scan.csv:3: time goes backwards"),
