@@ -120,11 +120,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (const auto& d : out.done) {
           ++finished;
           if (d.status == ephor::comm::Outcome::kDone) {
+            // A DONE can come for a seq not yet sent under it: after a goal
+            // moved to a fresh seq, an ack for that seq with the goal's id
+            // (another comm sent it: the arm ran the goal) ends it DONE.
             const auto sent = goal_of_seq.find(d.seq);
-            if (sent == goal_of_seq.end())
-              ephor::fuzz::fail("DONE reported for seq " + std::to_string(d.seq) +
-                                " that was never sent");
-            done_at[sent->second] = finished;
+            if (sent != goal_of_seq.end()) done_at[sent->second] = finished;
           }
         }
         break;
