@@ -3,11 +3,13 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
+#include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
 #include "common/time/clock.h"
@@ -64,6 +66,81 @@ double kill_and_await_restart(const Processes& p, const std::string& launcher,
       },
       timeout);
   return restarted ? static_cast<double>(mono_ns() - t0) * 1e-9 : -2.0;
+}
+
+struct ChannelCounter::Impl {
+  explicit Impl(const std::string& url) : lcm(url) {}
+  lcm::LCM lcm;
+  mutable std::mutex mutex;
+  std::map<std::string, int64_t> counts;
+  std::atomic<bool> running{true};
+  std::thread thread;
+};
+
+ChannelCounter::ChannelCounter(const std::string& url, const std::vector<std::string>& channels)
+    : impl_(std::make_unique<Impl>(url)) {
+  if (!impl_->lcm.good()) throw std::runtime_error("ChannelCounter: no LCM at " + url);
+  for (const std::string& channel : channels) {
+    impl_->counts[channel] = 0;
+    impl_->lcm.subscribeFunction(
+        channel,
+        +[](const lcm::ReceiveBuffer*, const std::string& ch, Impl* impl) {
+          std::lock_guard<std::mutex> lock(impl->mutex);
+          ++impl->counts[ch];
+        },
+        impl_.get());
+  }
+  impl_->thread = std::thread([impl = impl_.get()] {
+    while (impl->running) impl->lcm.handleTimeout(50);
+  });
+}
+
+ChannelCounter::~ChannelCounter() {
+  impl_->running = false;
+  impl_->thread.join();
+}
+
+int64_t ChannelCounter::count(const std::string& channel) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  const auto it = impl_->counts.find(channel);
+  return it == impl_->counts.end() ? 0 : it->second;
+}
+
+bool ChannelCounter::reached(const std::map<std::string, int64_t>& at_least) const {
+  for (const auto& [channel, n] : at_least)
+    if (count(channel) < n) return false;
+  return true;
+}
+
+std::map<std::string, double> kill_each_in_turn(const Processes& p, const std::string& launcher,
+                                                const std::vector<std::string>& victims,
+                                                const ChannelCounter& heard,
+                                                const std::map<std::string, int64_t>& resume,
+                                                std::chrono::milliseconds restart_timeout,
+                                                std::chrono::milliseconds flowing_timeout) {
+  std::map<std::string, double> restart_s_of;
+  const int64_t first_ns = mono_ns();
+  for (const std::string& name : victims) {
+    std::map<std::string, int64_t> target;
+    for (const auto& [channel, n] : resume) target[channel] = heard.count(channel) + n;
+    const int64_t t0 = mono_ns();
+    const double restart_s = kill_and_await_restart(p, launcher, name, restart_timeout);
+    if (restart_s < 0.0) {
+      ADD_FAILURE() << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
+      break;
+    }
+    restart_s_of[name] = restart_s;
+    const bool flowing = wait_until([&] { return heard.reached(target); }, flowing_timeout);
+    std::fprintf(stderr,
+                 "%s (killed %.1f s in): kill -9 -> running again %.3f s, flowing again %.1f s\n",
+                 name.c_str(), static_cast<double>(t0 - first_ns) * 1e-9, restart_s,
+                 static_cast<double>(mono_ns() - t0) * 1e-9);
+    if (!flowing) {
+      ADD_FAILURE() << "the system's outputs did not flow again after " << name << " was killed";
+      break;
+    }
+  }
+  return restart_s_of;
 }
 
 std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines) {

@@ -49,6 +49,36 @@ int launched_pid(const Processes& p, const std::string& launcher, const std::str
 double kill_and_await_restart(const Processes& p, const std::string& launcher,
                               const std::string& process, std::chrono::milliseconds timeout);
 
+// Messages heard per channel on one LCM URL from construction on (counted,
+// not decoded: any type). For "the system's outputs flow again".
+class ChannelCounter {
+ public:
+  ChannelCounter(const std::string& url, const std::vector<std::string>& channels);
+  ~ChannelCounter();
+  ChannelCounter(const ChannelCounter&) = delete;
+  ChannelCounter& operator=(const ChannelCounter&) = delete;
+  int64_t count(const std::string& channel) const;
+  // True once every channel of `at_least` has had that many messages.
+  bool reached(const std::map<std::string, int64_t>& at_least) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Issue 18's fault run: each of `victims` (processes of the launcher started
+// as `launcher`) killed with SIGKILL in turn; after each, waits for the
+// launcher to restart it and for every channel of `resume` to carry that
+// many new messages, and prints a line. A process not restarted, or outputs
+// not flowing again, within the timeouts is a test failure (gtest) and ends
+// the run of kills. Returns the seconds from each kill to the new pid, for
+// the processes that came back.
+std::map<std::string, double> kill_each_in_turn(
+    const Processes& p, const std::string& launcher, const std::vector<std::string>& victims,
+    const ChannelCounter& heard, const std::map<std::string, int64_t>& resume,
+    std::chrono::milliseconds restart_timeout = std::chrono::seconds(5),
+    std::chrono::milliseconds flowing_timeout = std::chrono::seconds(15));
+
 // How many times the arm set off on each goal id, from the arm's lines in the
 // launcher's output ("[arm ...] seq 14 goal 14: cartesian move to ..."): a
 // fault test's "no goal runs twice".

@@ -19,20 +19,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/rambo/rambo_channels.h"
-#include "common/time/clock.h"
-#include "ephor/arm_state_t.hpp"
-#include "ephor/rambo_indicator_t.hpp"
-#include "ephor/rambo_pose_t.hpp"
 #include "tests/integration/harness.h"
 
 namespace ephor::testing {
@@ -50,27 +44,7 @@ TEST(RamboFaults, EachProcessKilledMidRunIsRestartedAndADiodeIsStillTagged) {
   const std::string log_path = (dir / "run.lcm").string();
   const std::string summary = (dir / "summary.json").string();
 
-  std::mutex mutex;
-  int64_t poses = 0, states = 0;
-  int tagged = 0;
-  Bus bus(kUrl, "fault-test");
-  bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&](const rambo_pose_t&) {
-    std::lock_guard<std::mutex> lock(mutex);
-    ++poses;
-  });
-  bus.subscribe<arm_state_t>(channels::kArmState, [&](const arm_state_t&) {
-    std::lock_guard<std::mutex> lock(mutex);
-    ++states;
-  });
-  bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {
-    std::lock_guard<std::mutex> lock(mutex);
-    tagged = std::max(tagged, static_cast<int>(m.tagged_count));
-  });
-  bus.start();
-  const auto heard = [&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    return std::make_pair(poses, states);
-  };
+  ChannelCounter heard(kUrl, {rambo::channels::kPose, channels::kArmState});
 
   Processes p;
   p.start("launch", bin("ephor-launch"),
@@ -79,33 +53,19 @@ TEST(RamboFaults, EachProcessKilledMidRunIsRestartedAndADiodeIsStillTagged) {
            "--seed", "1", "--max_s", "75", "--summary", summary},
           {{"LCM_DEFAULT_URL", kUrl}});
   // The camera runs at 5 Hz: ten poses are two seconds of the loop.
-  ASSERT_TRUE(wait_until([&] { return heard().first >= 10 && heard().second >= 200; }, seconds(40)))
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return heard.reached({{rambo::channels::kPose, 10}, {channels::kArmState, 200}});
+      },
+      seconds(40)))
       << "poses and the arm's state did not start";
-  const int64_t start_ns = mono_ns();
-
-  std::map<std::string, double> restart_s_of;
-  for (const std::string name : {"features", "pose", "predictor", "planner", "comm", "arm"}) {
-    const auto before = heard();
-    const int64_t t0 = mono_ns();
-    const double restart_s = kill_and_await_restart(p, "launch", name, seconds(5));
-    ASSERT_GE(restart_s, 0.0) << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
-    restart_s_of[name] = restart_s;
-    EXPECT_LT(restart_s, 5.0) << name;
-    ASSERT_TRUE(wait_until(
-        [&] {
-          const auto now = heard();
-          return now.first >= before.first + 5 && now.second >= before.second + 100;
-        },
-        seconds(15)))
-        << "poses and arm states did not resume after " << name << " was killed";
-    std::fprintf(stderr,
-                 "%s (killed %.1f s in): kill -9 -> running again %.3f s, flowing again %.1f s\n",
-                 name.c_str(), static_cast<double>(t0 - start_ns) * 1e-9, restart_s,
-                 static_cast<double>(mono_ns() - t0) * 1e-9);
-  }
+  const std::vector<std::string> victims = {"features", "pose", "predictor",
+                                            "planner",  "comm", "arm"};
+  const std::map<std::string, double> restart_s_of = kill_each_in_turn(
+      p, "launch", victims, heard, {{rambo::channels::kPose, 5}, {channels::kArmState, 100}});
+  ASSERT_EQ(restart_s_of.size(), victims.size()) << "not every process came back";
 
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(90))) << "the run did not end";
-  bus.stop();
   for (const auto& e : p.exits()) {
     if (e.name == "launch") {
       EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
@@ -130,7 +90,8 @@ TEST(RamboFaults, EachProcessKilledMidRunIsRestartedAndADiodeIsStillTagged) {
   double slowest_s = 0.0;
   for (const auto& [name, seconds_] : restart_s_of) slowest_s = std::max(slowest_s, seconds_);
   const std::vector<std::pair<const char*, double>> bounds = {
-      {rambo::channels::kPose, slowest_s + 2.0}, {channels::kArmState, restart_s_of["arm"] + 1.0}};
+      {rambo::channels::kPose, slowest_s + 2.0},
+      {channels::kArmState, restart_s_of.at("arm") + 1.0}};
   for (const auto& [channel, bound_s] : bounds) {
     const ChannelGap g = longest_gap_in_log(log_path, channel);
     std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",

@@ -24,18 +24,13 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <mutex>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
-#include "common/time/clock.h"
-#include "ephor/arm_state_t.hpp"
-#include "ephor/shepherd_objects_t.hpp"
 #include "tests/integration/harness.h"
 
 namespace ephor::testing {
@@ -46,30 +41,6 @@ using std::chrono::seconds;
 
 // deploy/shepherd.pbtxt's bus (this test has its network namespace to itself).
 constexpr const char* kUrl = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=16777216";
-
-// Objects and arm states heard on the bus.
-struct Heard {
-  std::mutex mutex;
-  int64_t objects = 0;
-  int64_t states = 0;
-};
-
-void listen(Bus& bus, Heard& heard) {
-  bus.subscribe<shepherd_objects_t>(channels::kObjects, [&heard](const shepherd_objects_t&) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    ++heard.objects;
-  });
-  bus.subscribe<arm_state_t>(channels::kArmState, [&heard](const arm_state_t&) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    ++heard.states;
-  });
-  bus.start();
-}
-
-std::pair<int64_t, int64_t> counts(Heard& heard) {
-  std::lock_guard<std::mutex> lock(heard.mutex);
-  return {heard.objects, heard.states};
-}
 
 nlohmann::json read_summary(const std::string& path) {
   nlohmann::json s;
@@ -83,42 +54,25 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
   const std::string log_path = (dir / "run.lcm").string();
   const std::string summary = (dir / "summary.json").string();
 
-  Heard heard;
-  Bus bus(kUrl, "fault-test");
-  listen(bus, heard);
+  ChannelCounter heard(kUrl, {channels::kObjects, channels::kArmState});
   Processes p;
   p.start("launch", bin("ephor-launch"),
           {source_path("deploy/shepherd.pbtxt"), "--headless", "--restart", "--record", log_path,
            "--record-channels", "OBJECTS|ARM_STATE|ARM_GOAL|GROUND_TRUTH", "--duration", "45",
            "--seed", "7", "--sheep", "4", "--summary", summary});
-  ASSERT_TRUE(wait_until([&] { return counts(heard).first >= 60 && counts(heard).second >= 200; },
-                         seconds(40)))
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return heard.reached({{channels::kObjects, 60}, {channels::kArmState, 200}});
+      },
+      seconds(40)))
       << "the world model and the arm did not start";
-  const int64_t start_ns = mono_ns();
-
-  std::map<std::string, double> restart_s_of;
-  for (const std::string name : {"monitor", "vision", "worldmodel", "planner", "comm", "arm"}) {
-    const auto before = counts(heard);
-    const int64_t t0 = mono_ns();
-    const double restart_s = kill_and_await_restart(p, "launch", name, seconds(5));
-    ASSERT_GE(restart_s, 0.0) << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
-    restart_s_of[name] = restart_s;
-    EXPECT_LT(restart_s, 5.0) << name;
-    ASSERT_TRUE(wait_until(
-        [&] {
-          const auto now = counts(heard);
-          return now.first >= before.first + 30 && now.second >= before.second + 100;
-        },
-        seconds(15)))
-        << "objects and arm states did not resume after " << name << " was killed";
-    std::fprintf(stderr,
-                 "%s (killed %.1f s in): kill -9 -> running again %.3f s, flowing again %.1f s\n",
-                 name.c_str(), static_cast<double>(t0 - start_ns) * 1e-9, restart_s,
-                 static_cast<double>(mono_ns() - t0) * 1e-9);
-  }
+  const std::vector<std::string> victims = {"monitor", "vision", "worldmodel",
+                                            "planner", "comm",   "arm"};
+  const std::map<std::string, double> restart_s_of = kill_each_in_turn(
+      p, "launch", victims, heard, {{channels::kObjects, 30}, {channels::kArmState, 100}});
+  ASSERT_EQ(restart_s_of.size(), victims.size()) << "not every process came back";
 
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(70))) << "the run did not end";
-  bus.stop();
   for (const auto& e : p.exits()) {
     if (e.name == "launch") {
       EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
@@ -141,7 +95,7 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
   double slowest_s = 0.0;
   for (const auto& [name, seconds_] : restart_s_of) slowest_s = std::max(slowest_s, seconds_);
   const std::vector<std::pair<const char*, double>> bounds = {
-      {channels::kObjects, slowest_s + 1.0}, {channels::kArmState, restart_s_of["arm"] + 1.0}};
+      {channels::kObjects, slowest_s + 1.0}, {channels::kArmState, restart_s_of.at("arm") + 1.0}};
   for (const auto& [channel, bound_s] : bounds) {
     const ChannelGap g = longest_gap_in_log(log_path, channel);
     std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",

@@ -33,9 +33,6 @@
 
 #include "common/lcm/bus.h"
 #include "common/sphere/sphere_channels.h"
-#include "common/time/clock.h"
-#include "ephor/sphere_estimate_t.hpp"
-#include "ephor/sphere_guidance_t.hpp"
 #include "ephor/sphere_truth_t.hpp"
 #include "tests/integration/harness.h"
 
@@ -50,20 +47,10 @@ constexpr const char* kUrl = "udpm://239.255.76.67:7672?ttl=0&recv_buf_size=1677
 // What the test hears on the bus while the run goes on.
 struct Heard {
   std::mutex mutex;
-  int estimates = 0;
-  int guidance = 0;
   std::vector<sphere_truth_t> verdicts;  // phases other than APPROACH
 };
 
 void listen(Bus& bus, Heard& heard) {
-  bus.subscribe<sphere_estimate_t>(sphere::channels::kEstimate, [&](const sphere_estimate_t&) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    ++heard.estimates;
-  });
-  bus.subscribe<sphere_guidance_t>(sphere::channels::kGuidance, [&](const sphere_guidance_t&) {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    ++heard.guidance;
-  });
   bus.subscribe<sphere_truth_t>(sphere::channels::kTruth, [&](const sphere_truth_t& m) {
     if (m.phase == sphere_truth_t::PHASE_APPROACH) return;
     std::lock_guard<std::mutex> lock(heard.mutex);
@@ -90,33 +77,23 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
           {source_path("deploy/sphere.pbtxt"), "--headless", "--restart", "--record", log_path,
            "--duration", "170", "--start_m", "5", "--seed", "3", "--max_s", "120"},
           {{"LCM_DEFAULT_URL", kUrl}});
-  const auto estimates = [&] {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    return heard.estimates;
-  };
-  const auto commands = [&] {
-    std::lock_guard<std::mutex> lock(heard.mutex);
-    return heard.guidance;
-  };
-  ASSERT_TRUE(wait_until([&] { return estimates() >= 4 && commands() >= 3; }, seconds(40)))
+  ChannelCounter counted(kUrl, {sphere::channels::kEstimate, sphere::channels::kGuidance});
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return counted.reached(
+            {{sphere::channels::kEstimate, 4}, {sphere::channels::kGuidance, 3}});
+      },
+      seconds(40)))
       << "the loop did not start";
 
   // Kill each in turn; each must be running again (a new pid) within a second
   // and its output must come back.
-  for (const std::string name : {"locator", "guidance", "ranger"}) {
-    const int est_before = estimates(), cmd_before = commands();
-    const int64_t t0 = mono_ns();
-    const double restart_s = kill_and_await_restart(p, "launch", name, seconds(5));
-    ASSERT_GE(restart_s, 0.0) << name << (restart_s < -1.5 ? " was not restarted" : " had no pid");
-    EXPECT_LT(restart_s, 1.0) << name;
-    ASSERT_TRUE(wait_until(
-        [&] { return estimates() >= est_before + 3 && commands() >= cmd_before + 3; }, seconds(15)))
-        << "estimates and commands did not resume after " << name << " was killed";
-    const double flowing_s = static_cast<double>(mono_ns() - t0) * 1e-9;
-    std::fprintf(stderr,
-                 "%s: kill -9 -> running again %.3f s, estimates and commands again %.1f s\n",
-                 name.c_str(), restart_s, flowing_s);
-  }
+  const std::vector<std::string> victims = {"locator", "guidance", "ranger"};
+  const std::map<std::string, double> restart_s_of =
+      kill_each_in_turn(p, "launch", victims, counted,
+                        {{sphere::channels::kEstimate, 3}, {sphere::channels::kGuidance, 3}});
+  ASSERT_EQ(restart_s_of.size(), victims.size()) << "not every process came back";
+  for (const auto& [name, restart_s] : restart_s_of) EXPECT_LT(restart_s, 1.0) << name;
 
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(150)))
       << "the run did not end";
@@ -158,6 +135,7 @@ TEST(SphereFaults, FivePercentPacketLossStillLocatesAtTwoHertzAndCaptures) {
   Heard heard;
   Bus bus(kUrl, "fault-test");
   listen(bus, heard);
+  ChannelCounter counted(kUrl, {sphere::channels::kEstimate, sphere::channels::kGuidance});
   Processes p;
   p.start("launch", bin("ephor-launch"),
           {source_path("deploy/sphere.pbtxt"), "--headless", "--duration", "100", "--start_m", "5",
@@ -170,14 +148,17 @@ TEST(SphereFaults, FivePercentPacketLossStillLocatesAtTwoHertzAndCaptures) {
   std::lock_guard<std::mutex> lock(heard.mutex);
   ASSERT_FALSE(heard.verdicts.empty()) << "no verdict";
   const sphere_truth_t& v = heard.verdicts.back();
-  std::fprintf(stderr, "with 5 %% loss: %d estimates and %d commands heard, %s\n", heard.estimates,
-               heard.guidance, v.verdict.c_str());
+  const int64_t estimates = counted.count(sphere::channels::kEstimate);
+  std::fprintf(stderr, "with 5 %% loss: %lld estimates and %lld commands heard, %s\n",
+               static_cast<long long>(estimates),
+               static_cast<long long>(counted.count(sphere::channels::kGuidance)),
+               v.verdict.c_str());
   EXPECT_EQ(static_cast<int>(v.phase), static_cast<int>(sphere_truth_t::PHASE_CAPTURED))
       << v.verdict;
   // About 2 Hz over the approach: the test's own copies are dropped at 5 %
   // too, and a window may lose the ranger's mark or too many lines.
   const double expected = 2.0 * v.capture_t_s;
-  EXPECT_GT(heard.estimates, 0.8 * expected) << "of about " << expected;
+  EXPECT_GT(static_cast<double>(estimates), 0.8 * expected) << "of about " << expected;
 }
 
 }  // namespace
