@@ -143,6 +143,19 @@ std::map<std::string, double> kill_each_in_turn(const Processes& p, const std::s
   return restart_s_of;
 }
 
+PacketLoss::PacketLoss(double probability)
+    : rule_("INPUT -i lo -m statistic --mode random --probability " + std::to_string(probability) +
+            " -j DROP") {
+  if (std::system(("iptables -A " + rule_).c_str()) != 0)
+    throw std::runtime_error("iptables could not add '" + rule_ +
+                             "' (the statistic match and root are needed)");
+}
+
+PacketLoss::~PacketLoss() {
+  if (std::system(("iptables -D " + rule_).c_str()) != 0)
+    std::fprintf(stderr, "iptables could not remove '%s'\n", rule_.c_str());
+}
+
 std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines) {
   std::map<std::string, int> started;
   for (const std::string& line : launcher_lines) {

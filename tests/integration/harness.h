@@ -79,6 +79,20 @@ std::map<std::string, double> kill_each_in_turn(
     std::chrono::milliseconds restart_timeout = std::chrono::seconds(5),
     std::chrono::milliseconds flowing_timeout = std::chrono::seconds(15));
 
+// While it lives, every packet arriving on lo is dropped with probability
+// `probability` (iptables' statistic match: the kernel here has no
+// sch_netem). Only for a test in its own network namespace (NETNS).
+class PacketLoss {
+ public:
+  explicit PacketLoss(double probability);  // throws when iptables refuses
+  ~PacketLoss();
+  PacketLoss(const PacketLoss&) = delete;
+  PacketLoss& operator=(const PacketLoss&) = delete;
+
+ private:
+  std::string rule_;
+};
+
 // How many times the arm set off on each goal id, from the arm's lines in the
 // launcher's output ("[arm ...] seq 14 goal 14: cartesian move to ..."): a
 // fault test's "no goal runs twice".

@@ -122,5 +122,34 @@ TEST(CatchFaults, EachProcessKilledMidRunIsRestartedAndBallsGoOnBeingJudged) {
   fs::remove_all(dir);
 }
 
+// 5 % of the packets on the bus dropped (a lost fragment loses the whole
+// camera frame): the balls are still released, tracked and judged, every
+// process stays up, and no goal runs twice.
+TEST(CatchFaults, FivePercentPacketLossStillJudgesEveryBall) {
+  const PacketLoss loss(0.05);  // until the end of the test
+  const std::string summary = write_temp_file("loss_summary.json", "");
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {source_path("deploy/catch.pbtxt"), "--headless", "--duration", "60", "--balls", "3",
+           "--seed", "2", "--summary", summary});
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(90))) << "the run did not end";
+  for (const auto& e : p.exits()) {
+    if (e.name == "launch") {
+      EXPECT_EQ(e.code, 0) << "a process failed under packet loss";
+    }
+  }
+  const std::map<std::string, int> started = arm_goal_starts(p.lines("launch"));
+  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
+  nlohmann::json s;
+  std::ifstream(summary) >> s;
+  std::fprintf(stderr, "with 5 %% loss: balls %d, caught %d, world outputs %d, arm goals %zu\n",
+               s["balls"].get<int>(), s["caught"].get<int>(), s["world_outputs"].get<int>(),
+               started.size());
+  EXPECT_EQ(s["balls"].get<int>(), 3) << "the run ended before three balls were judged";
+  EXPECT_EQ(s["missed"].size() + static_cast<size_t>(s["caught"].get<int>()), 3u);
+  EXPECT_GT(s["world_outputs"].get<int>(), 100);
+  EXPECT_GE(started.size(), 1u) << "the arm was never sent a goal";
+}
+
 }  // namespace
 }  // namespace ephor::testing

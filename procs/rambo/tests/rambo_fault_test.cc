@@ -102,5 +102,33 @@ TEST(RamboFaults, EachProcessKilledMidRunIsRestartedAndADiodeIsStillTagged) {
   fs::remove_all(dir);
 }
 
+// 5 % of the packets on the bus dropped: the loop goes on (poses, the arm
+// commanded), every process stays up, a diode is tagged and no goal runs
+// twice.
+TEST(RamboFaults, FivePercentPacketLossStillTagsADiode) {
+  const PacketLoss loss(0.05);  // until the end of the test
+  const std::string summary = write_temp_file("rambo_loss_summary.json", "");
+  Processes p;
+  p.start("launch", bin("ephor-launch"),
+          {source_path("deploy/rambo.pbtxt"), "--headless", "--seed", "1", "--max_s", "45",
+           "--summary", summary},
+          {{"LCM_DEFAULT_URL", kUrl}});
+  ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(75))) << "the run did not end";
+  for (const auto& e : p.exits()) {
+    if (e.name == "launch") {
+      EXPECT_EQ(e.code, 0) << "a process failed under packet loss";
+    }
+  }
+  const std::map<std::string, int> started = arm_goal_starts(p.lines("launch"));
+  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
+  nlohmann::json s;
+  std::ifstream(summary) >> s;
+  std::fprintf(stderr, "with 5 %% loss: tagged %d of %d, poses found %d of %d, arm goals %zu\n",
+               s["tagged"].get<int>(), s["diodes"].get<int>(), s["poses_found"].get<int>(),
+               s["poses"].get<int>(), started.size());
+  EXPECT_GE(s["tagged"].get<int>(), 1) << "no diode tagged under packet loss";
+  EXPECT_GE(started.size(), 3u) << "the arm was hardly sent anything";
+}
+
 }  // namespace
 }  // namespace ephor::testing

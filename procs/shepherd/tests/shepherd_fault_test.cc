@@ -107,10 +107,7 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
 }
 
 TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
-  ASSERT_EQ(std::system("iptables -A INPUT -i lo -m statistic --mode random --probability 0.05 "
-                        "-j DROP"),
-            0)
-      << "iptables' statistic match is needed for this test";
+  const PacketLoss loss(0.05);  // until the end of the test
   const fs::path dir = fs::path("/dev/shm") / ("ephor-shepherd-loss-" + std::to_string(getpid()));
   fs::create_directories(dir);
   const std::string summary = (dir / "summary.json").string();
@@ -119,7 +116,6 @@ TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
           {source_path("deploy/shepherd.pbtxt"), "--headless", "--duration", "30", "--seed", "7",
            "--sheep", "4", "--summary", summary});
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(75))) << "the run did not end";
-  std::system("iptables -D INPUT -i lo -m statistic --mode random --probability 0.05 -j DROP");
   const nlohmann::json s = read_summary(summary);
   std::fprintf(stderr, "with 5 %% loss: objects %.1f Hz, saves %d, escapes %d, id switches %d\n",
                s["objects_rate_hz"].get<double>(), s["saves"].get<int>(), s["escapes"].get<int>(),

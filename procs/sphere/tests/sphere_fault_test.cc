@@ -128,10 +128,7 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
 TEST(SphereFaults, FivePercentPacketLossStillLocatesAtTwoHertzAndCaptures) {
   // Inside this test's own network namespace (tools/netns-run): every packet
   // that reaches lo's input is dropped with probability 0.05.
-  ASSERT_EQ(std::system("iptables -A INPUT -i lo -m statistic --mode random --probability 0.05 "
-                        "-j DROP"),
-            0)
-      << "iptables' statistic match is needed for this test";
+  const PacketLoss loss(0.05);  // until the end of the test
   Heard heard;
   Bus bus(kUrl, "fault-test");
   listen(bus, heard);
@@ -144,7 +141,6 @@ TEST(SphereFaults, FivePercentPacketLossStillLocatesAtTwoHertzAndCaptures) {
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(120)))
       << "the run did not end";
   bus.stop();
-  std::system("iptables -D INPUT -i lo -m statistic --mode random --probability 0.05 -j DROP");
   std::lock_guard<std::mutex> lock(heard.mutex);
   ASSERT_FALSE(heard.verdicts.empty()) << "no verdict";
   const sphere_truth_t& v = heard.verdicts.back();
