@@ -13,6 +13,13 @@
 namespace ephor::logtools {
 namespace {
 
+// A string field that is not UTF-8 (a corrupt or foreign message) is written
+// with U+FFFD for its bad bytes: nlohmann's dump() would throw and end the
+// whole export (found by the fuzz target lcm_log, issue 18).
+std::string dump_text(const Json& v) {
+  return v.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
 constexpr size_t kMaxErrorsKept = 5;
 constexpr int kMaxExpandedFixedArray = 16;  // larger fixed arrays go into one cell
 // LCM publishes one message of its own here when a process opens the bus
@@ -103,7 +110,7 @@ class CsvLayout {
   static std::string scalar(const Json& v) {
     if (v.is_string()) return v.get<std::string>();
     if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
-    return v.dump();
+    return dump_text(v);
   }
 
   static std::string cell(const Json& root, const Column& c) {
@@ -115,7 +122,7 @@ class CsvLayout {
         v = &v->at(key);
     }
     if (!v->is_array()) return scalar(*v);
-    if (!c.joined) return v->dump();
+    if (!c.joined) return dump_text(*v);
     std::string s;
     for (const auto& x : *v) s += (s.empty() ? "" : " ") + scalar(x);
     return s;
@@ -180,7 +187,7 @@ ExportStats LogExporter::run(const std::string& log_path, std::ostream& out) con
       line["channel"] = e->channel;
       line["type"] = msg.type->full_name();
       line["msg"] = std::move(msg.fields);
-      out << line.dump() << '\n';
+      out << dump_text(line) << '\n';
       ++stats.rows;
       continue;
     }

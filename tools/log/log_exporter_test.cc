@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -116,6 +117,28 @@ TEST(LogExporter, JsonLinesCarryChannelTypeAndMessage) {
   EXPECT_DOUBLE_EQ(j["msg"]["sheep"][0]["x_mm"].get<double>(), 512.5);
   EXPECT_EQ(j["msg"]["sheep"][0]["visible"], true);
   std::filesystem::remove(log);
+}
+
+TEST(LogExporter, ASenderThatIsNotUtf8IsExportedWithReplacementCharacters) {
+  // Found by the fuzz target lcm_log: a corrupt string made the JSON dump
+  // throw and ended the whole export.
+  const std::string path =
+      ::testing::TempDir() + "/exporter_utf8_" + std::to_string(getpid()) + ".lcm";
+  {
+    lcm::LogFile log(path, "w");
+    ephor::shepherd_objects_t m = objects(0, 1);
+    m.header.sender = std::string("wm\x9a\xff");
+    write(log, 10, "OBJECTS", m);
+  }
+  for (const ExportFormat format : {ExportFormat::kJsonLines, ExportFormat::kCsv}) {
+    std::ostringstream out;
+    const auto stats = LogExporter(schema(), {"OBJECTS", format, false}).run(path, out);
+    EXPECT_EQ(stats.exported, 1);
+    if (format == ExportFormat::kJsonLines) {
+      EXPECT_NE(out.str().find("wm\xef\xbf\xbd"), std::string::npos) << out.str();
+    }
+  }
+  std::remove(path.c_str());
 }
 
 TEST(LogExporter, CsvRefusesMixedTypesAndBadInputIsNamed) {

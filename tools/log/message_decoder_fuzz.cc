@@ -15,7 +15,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       ephor::logtools::LcmSchema::load_directory(ephor::resolve_repo_path("lcmtypes"));
   static const ephor::logtools::MessageDecoder decoder(schema, {true});
   try {
-    (void)decoder.decode(data, size).fields.dump();
+    // Dumped as tools/ephor log export does (bad UTF-8 replaced).
+    (void)decoder.decode(data, size)
+        .fields.dump(-1, ' ', false, ephor::logtools::Json::error_handler_t::replace);
   } catch (const ephor::logtools::DecodeError&) {
   }
   return 0;
