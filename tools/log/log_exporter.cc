@@ -243,7 +243,11 @@ std::vector<ChannelSummary> summarize_log(const LcmSchema& schema, const std::st
         ++s.repeated;
         continue;
       }
-      s.missing += seq - it->second - 1;
+      // The gap in unsigned arithmetic, saturated: a corrupt log's seqs can be
+      // anything (signed overflow, found by the fuzz target lcm_log).
+      const uint64_t gap = static_cast<uint64_t>(seq) - static_cast<uint64_t>(it->second) - 1;
+      const auto room = static_cast<uint64_t>(INT64_MAX - s.missing);
+      s.missing = gap > room ? INT64_MAX : s.missing + static_cast<int64_t>(gap);
     }
     last_seq[key] = seq;
   }
@@ -269,7 +273,10 @@ void print_summary(const std::vector<ChannelSummary>& channels, std::ostream& ou
   out << std::left << std::setw(static_cast<int>(width)) << "channel"
       << "  type                         count    rate/Hz   mean/kB  missing  repeated\n";
   for (const auto& c : channels) {
-    const double span_s = static_cast<double>(c.last_utime_us - c.first_utime_us) * 1e-6;
+    // In double: a corrupt log's times can be anything, their difference too
+    // (signed overflow, found by the fuzz target lcm_log).
+    const double span_s =
+        (static_cast<double>(c.last_utime_us) - static_cast<double>(c.first_utime_us)) * 1e-6;
     const double rate = span_s > 0 ? static_cast<double>(c.count - 1) / span_s : 0.0;
     std::snprintf(
         buf, sizeof buf, "  %-26s %8lld %10.1f %9.1f %8lld %9lld%s", c.type.c_str(),
@@ -279,11 +286,11 @@ void print_summary(const std::vector<ChannelSummary>& channels, std::ostream& ou
         c.undecodable > 0 ? ("  (" + std::to_string(c.undecodable) + " undecodable)").c_str() : "");
     out << std::left << std::setw(static_cast<int>(width)) << c.channel << buf << '\n';
   }
-  std::snprintf(buf, sizeof buf,
-                "%zu channels, %lld messages over %.1f s; %lld missing by header.seq\n",
-                channels.size(), static_cast<long long>(total),
-                channels.empty() ? 0.0 : static_cast<double>(last - first) * 1e-6,
-                static_cast<long long>(missing));
+  std::snprintf(
+      buf, sizeof buf, "%zu channels, %lld messages over %.1f s; %lld missing by header.seq\n",
+      channels.size(), static_cast<long long>(total),
+      channels.empty() ? 0.0 : (static_cast<double>(last) - static_cast<double>(first)) * 1e-6,
+      static_cast<long long>(missing));
   out << buf;
 }
 
