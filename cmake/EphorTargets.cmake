@@ -80,6 +80,11 @@ function(ephor_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
+  if(EPHOR_SANITIZE)
+    # AddressSanitizer and UBSan run code 2-3 times slower (rambo_test and
+    # catch_vision_test passed their 60 s under them only on a quiet machine).
+    math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 4")
+  endif()
   set_tests_properties(${name} PROPERTIES LABELS "${labels}" TIMEOUT ${ARG_TIMEOUT}
     ENVIRONMENT "EPHOR_BIN_DIR=${CMAKE_BINARY_DIR}/bin;EPHOR_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
   # Multi-process tests may run two at a time (ctest -j2): each system's
