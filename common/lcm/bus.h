@@ -107,7 +107,16 @@ class Bus {
     void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) override {
       T msg;
       const int size = static_cast<int>(rbuf->data_size);
-      if (msg.decode(rbuf->data, 0, size) != size) {
+      // lcm-gen's decoders can throw (std::bad_alloc, std::length_error) on
+      // counts the bounds patch (cmake/lcm_bound_counts.sed) does not catch:
+      // a message that does not decode must never end the process.
+      bool decoded = false;
+      try {
+        decoded = msg.decode(rbuf->data, 0, size) == size;
+      } catch (...) {
+        decoded = false;
+      }
+      if (!decoded) {
         bus->note_decode_error(channel, type_name, size);
         return;
       }
