@@ -21,38 +21,8 @@
 #include "common/geometry/overhead_camera.h"
 #include "common/geometry/workcell.h"
 #include "ephor/arm_cmd_t.hpp"
+#include "procs/shared/arm/arm_cmd_message.h"
 #include "procs/shared/arm/command_validator.h"
-
-namespace {
-
-// As main.cc's handle_command.
-ephor::arm::ArmCommand to_command(const ephor::arm_cmd_t& m) {
-  ephor::arm::ArmCommand cmd;
-  cmd.seq = m.seq;
-  cmd.goal_id = m.goal_id;
-  cmd.kind = m.kind;
-  cmd.plane = m.plane;
-  cmd.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-  for (int j = 0; j < 6; ++j) cmd.joints[j] = m.joints_rad[j];
-  cmd.u_px = static_cast<double>(m.u);
-  cmd.v_px = static_cast<double>(m.v);
-  cmd.theta_rad = static_cast<double>(m.theta_rad);
-  cmd.max_speed_mm_s = static_cast<double>(m.max_speed_mm_s);
-  if (m.kind == ephor::arm::kKindTrajectory) {
-    for (std::size_t k = 0; k < m.traj_t_s.size(); ++k) {
-      ephor::arm::TrajectoryPoint p;
-      p.t_s = static_cast<double>(m.traj_t_s[k]);
-      for (int j = 0; j < 6; ++j) {
-        p.q[j] = m.traj_q_rad[k][static_cast<std::size_t>(j)];
-        p.qd[j] = m.traj_qd_rad_s[k][static_cast<std::size_t>(j)];
-      }
-      cmd.trajectory.points.push_back(p);
-    }
-  }
-  return cmd;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const ephor::geometry::Workcell cell;
@@ -63,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   ephor::arm_cmd_t m;
   const int n = static_cast<int>(size);
   if (m.decode(data, 0, n) != n) return 0;
-  const ephor::arm::ArmCommand cmd = to_command(m);
+  const ephor::arm::ArmCommand cmd = ephor::arm::command_from_message(m);
   ephor::arm::Joints current = ephor::arm::park_joints(cell);
   if ((m.source_frame_utime & 1) != 0 && !cmd.trajectory.points.empty() &&
       cmd.trajectory.points.front().q.allFinite())

@@ -57,6 +57,7 @@
 #include "ephor/estop_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
+#include "procs/shared/arm/arm_cmd_message.h"
 #include "procs/shared/arm/arm_command.h"
 #include "procs/shared/arm/command_ledger.h"
 #include "procs/shared/arm/command_validator.h"
@@ -311,29 +312,7 @@ class ArmProcess {
       start = servo_->q;
     }
 
-    ephor::arm::ArmCommand cmd;
-    cmd.seq = m.seq;
-    cmd.goal_id = m.goal_id;
-    cmd.kind = m.kind;
-    cmd.plane = m.plane;
-    cmd.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-    for (int j = 0; j < 6; ++j) cmd.joints[j] = m.joints_rad[j];
-    cmd.u_px = static_cast<double>(m.u);
-    cmd.v_px = static_cast<double>(m.v);
-    cmd.theta_rad = static_cast<double>(m.theta_rad);
-    cmd.max_speed_mm_s = static_cast<double>(m.max_speed_mm_s);
-    if (m.kind == ephor::arm::kKindTrajectory) {
-      // LCM's decoder keeps the arrays num_points long.
-      for (std::size_t k = 0; k < m.traj_t_s.size(); ++k) {
-        ephor::arm::TrajectoryPoint p;
-        p.t_s = static_cast<double>(m.traj_t_s[k]);
-        for (int j = 0; j < 6; ++j) {
-          p.q[j] = m.traj_q_rad[k][static_cast<std::size_t>(j)];
-          p.qd[j] = m.traj_qd_rad_s[k][static_cast<std::size_t>(j)];
-        }
-        cmd.trajectory.points.push_back(p);
-      }
-    }
+    const ephor::arm::ArmCommand cmd = ephor::arm::command_from_message(m);
 
     // Validate and plan without the lock (OMPL may take its time budget); if
     // the arm moved meanwhile, plan again from where it is now.
