@@ -75,6 +75,7 @@ struct Image {
 };
 struct Points {
   int64_t image_index, scan_id;
+  int stripe_index, scan_stripes;
   float cpu_us;
 };
 struct Profile {
@@ -173,6 +174,7 @@ int main(int argc, char** argv) {
     std::mutex mutex;
     std::deque<Event> events;
     std::optional<arm::Joints> arm_q;
+    bool arm_moving = false;
     std::atomic<bool> finished{false};
     int exit_code = 0;
 
@@ -188,6 +190,7 @@ int main(int argc, char** argv) {
       if (!q.allFinite()) return;
       std::lock_guard<std::mutex> lock(mutex);
       arm_q = q;
+      arm_moving = m.moving;
     });
     bus.subscribe<motion_done_t>(ephor::channels::kMotionDone, [&](const motion_done_t& m) {
       push(Done{m.goal_id, m.status, m.reason});
@@ -197,7 +200,7 @@ int main(int argc, char** argv) {
       push(Image{m.request_id, m.image_index});
     });
     bus.subscribe<stripe_points_t>(stripe::channels::kPoints, [&](const stripe_points_t& m) {
-      push(Points{m.image_index, m.scan_id, m.cpu_us});
+      push(Points{m.image_index, m.scan_id, m.stripe_index, m.scan_stripes, m.cpu_us});
     });
     bus.subscribe<stripe_profile_t>(stripe::channels::kProfile, [&](const stripe_profile_t& m) {
       push(Profile{m.scan_id, m.cpu_us});
@@ -208,7 +211,12 @@ int main(int argc, char** argv) {
 
     // The scan in hand (task thread only).
     std::optional<ScanSequencer> seq;
-    int64_t scan_id = 0, next_goal = 1, next_request = 1;
+    // Goal and request ids count up from this start's wall clock (us): a
+    // restarted planner's ids never repeat the old one's (the arm would log
+    // the same goal twice; the camera answers a request id it has answered
+    // before with that old image).
+    int64_t scan_id = 0, next_goal = wall_us(), next_request = wall_us();
+    int last_goal_stripe = -1, last_retaken = 0, last_range_losses = 0;
     int scans_done = 0;
     double last_status_s = 0.0, pause_until_s = 0.0;
     double extract_cpu_us = 0.0, range_cpu_us = 0.0;
@@ -256,7 +264,23 @@ int main(int argc, char** argv) {
       last_status_s = t;
     };
     auto act = [&](const SequencerActions& a) {
+      if (seq->range_losses() != last_range_losses) {
+        last_range_losses = seq->range_losses();
+        spdlog::warn(
+            "scan {}: the range process has lost stripes it had ranged (restarted?): "
+            "they will be taken again",
+            scan_id);
+      }
+      if (seq->retaken() != last_retaken) {
+        spdlog::warn("scan {}: going back for {} stripes without points", scan_id,
+                     seq->retaken() - last_retaken);
+        last_retaken = seq->retaken();
+      }
       if (a.goal) {
+        if (a.goal->stripe == last_goal_stripe)
+          spdlog::warn("stripe {}: its goal sent again as goal {}", a.goal->stripe,
+                       a.goal->goal_id);
+        last_goal_stripe = a.goal->stripe;
         arm_goal_t g{};
         g.utime = wall_us();
         g.goal_id = a.goal->goal_id;
@@ -292,6 +316,8 @@ int main(int argc, char** argv) {
                  {"stripes_planned", seq->planned()},
                  {"stripes_captured", seq->captured()},
                  {"stripes_skipped", seq->skipped()},
+                 {"stripes_retaken", seq->retaken()},
+                 {"range_losses", seq->range_losses()},
                  {"stripes_missing_in_cloud", last_cloud.stripes_missing},
                  {"cloud_points", seq->cloud_points()},
                  {"cloud_path", last_cloud.path},
@@ -304,11 +330,13 @@ int main(int argc, char** argv) {
                  {"range_cpu_us_per_stripe", range_n > 0 ? range_cpu_us / range_n : 0.0}};
       if (seq->state() == ScanState::kDone) {
         spdlog::info(
-            "scan {} done: {} of {} stripes ({} skipped), {} points in {:.1f} s: {:.2f} stripes/s "
+            "scan {} done: {} of {} stripes ({} skipped, {} taken again), {} points in {:.1f} s: "
+            "{:.2f} stripes/s "
             "scanned with the arm moving (paper: 3-4), arm moving {:.1f} s, processing {:.0f} us "
             "CPU a stripe",
-            scan_id, seq->captured(), seq->planned(), seq->skipped(), seq->cloud_points(),
-            seq->elapsed_s(t), seq->stripes_per_s(), seq->motion_s(), per_stripe_us);
+            scan_id, seq->captured(), seq->planned(), seq->skipped(), seq->retaken(),
+            seq->cloud_points(), seq->elapsed_s(t), seq->stripes_per_s(), seq->motion_s(),
+            per_stripe_us);
       } else {
         spdlog::error("scan {} failed: {}", scan_id, seq->reason());
       }
@@ -329,6 +357,8 @@ int main(int argc, char** argv) {
       }
       scan_id = wall_us();
       seq.emplace(plan.goals, next_goal, next_request);
+      last_goal_stripe = -1;
+      last_retaken = last_range_losses = 0;
       extract_cpu_us = range_cpu_us = 0.0;
       extract_n = range_n = 0;
       last_cloud = Cloud{};
@@ -346,10 +376,12 @@ int main(int argc, char** argv) {
       const double t = now_s();
       std::deque<Event> batch;
       std::optional<arm::Joints> q;
+      bool moving = false;
       {
         std::lock_guard<std::mutex> lock(mutex);
         batch.swap(events);
         q = arm_q;
+        moving = arm_moving;
       }
       if (finished) return;
       if (!seq) {
@@ -367,6 +399,7 @@ int main(int argc, char** argv) {
           if (p->scan_id == scan_id && p->scan_id != 0) {
             range_cpu_us += static_cast<double>(p->cpu_us);
             ++range_n;
+            act(seq->on_ranged(p->stripe_index, p->scan_stripes, t));
           }
           act(seq->on_points(p->image_index, t));
         } else if (const auto* f = std::get_if<Profile>(&e)) {
@@ -385,6 +418,7 @@ int main(int argc, char** argv) {
           act(seq->on_cloud(c->points, t));
         }
       }
+      if (moving) seq->on_arm_moving(t);
       act(seq->tick(t));
       if (t - last_status_s >= 1.0) publish_scan(t);
       if (seq->finished() && pause_until_s == 0.0) {

@@ -1,5 +1,7 @@
 #include "procs/stripe/planner/scan_sequencer.h"
 
+#include <algorithm>
+
 #include <spdlog/fmt/fmt.h>
 
 namespace ephor::stripe {
@@ -25,7 +27,15 @@ ScanSequencer::ScanSequencer(std::vector<arm::Joints> goals, int64_t first_goal_
     : goals_(std::move(goals)),
       config_(config),
       next_goal_id_(first_goal_id),
-      next_request_id_(first_request_id) {}
+      next_request_id_(first_request_id) {
+  for (int i = 0; i < planned(); ++i) order_.push_back(i);
+}
+
+int ScanSequencer::skipped() const {
+  int n = 0;
+  for (const int i : refused_) n += imaged_.count(i) == 0 ? 1 : 0;
+  return n;
+}
 
 SequencerActions ScanSequencer::fail(const std::string& why) {
   state_ = ScanState::kFailed;
@@ -56,21 +66,63 @@ SequencerActions ScanSequencer::capture(double now_s, bool repeat) {
 }
 
 SequencerActions ScanSequencer::send_goal(double now_s) {
-  // The next stripe, or the end of the raster.
-  if (stripe_ >= planned()) {
-    state_ = ScanState::kCaptured;
-    phase_ = Phase::kCloud;
-    phase_since_s_ = now_s;
-    SequencerActions a;
-    a.changed = true;
-    return a;
-  }
   phase_ = Phase::kMoving;
   phase_since_s_ = now_s;
   if (first_goal_s_ < 0) first_goal_s_ = now_s;
   goal_id_ = next_goal_id_++;
+  ++goal_sends_;
   SequencerActions a;
   a.goal = GoalAction{goal_id_, stripe_, goals_[static_cast<size_t>(stripe_)]};
+  return a;
+}
+
+SequencerActions ScanSequencer::resend_goal(double now_s, const std::string& why) {
+  if (goal_sends_ >= config_.goal_attempts)
+    return fail(fmt::format("stripe {}: {} ({} goals sent for it)", stripe_, why, goal_sends_));
+  // A new goal id: a restarted comm does not know the old one and would run
+  // a resend of it as a new goal (the arm would log the same goal twice).
+  SequencerActions a = send_goal(now_s);
+  a.changed = true;
+  return a;
+}
+
+SequencerActions ScanSequencer::next_stripe(double now_s) {
+  ++pos_;
+  if (pos_ < order_.size()) {
+    stripe_ = order_[pos_];
+    goal_sends_ = 0;
+    return send_goal(now_s);
+  }
+  // The end of this round: wait for the points of what was imaged.
+  phase_ = Phase::kSettling;
+  phase_since_s_ = now_s;
+  return settle(now_s);
+}
+
+SequencerActions ScanSequencer::settle(double now_s) {
+  if (phase_ != Phase::kSettling) return {};
+  bool all_ranged = true;
+  for (const int i : imaged_) all_ranged = all_ranged && ranged_.count(i) != 0;
+  if (!all_ranged && now_s - phase_since_s_ < config_.ranged_timeout_s) return {};
+  std::vector<int> missing;
+  for (int i = 0; i < planned(); ++i)
+    if (ranged_.count(i) == 0) missing.push_back(i);
+  SequencerActions a;
+  a.changed = true;
+  if (!missing.empty() && round_ < config_.retake_rounds) {
+    ++round_;
+    retaken_ += static_cast<int>(missing.size());
+    order_ = std::move(missing);
+    pos_ = 0;
+    stripe_ = order_.front();
+    goal_sends_ = 0;
+    a = send_goal(now_s);
+    a.changed = true;
+    return a;
+  }
+  state_ = ScanState::kCaptured;
+  phase_ = Phase::kCloud;
+  phase_since_s_ = now_s;
   return a;
 }
 
@@ -82,11 +134,11 @@ SequencerActions ScanSequencer::on_image(int64_t request_id, int64_t image_index
     return {};
   }
   if (phase_ != Phase::kCapturing) return {};
-  ++captured_;
+  imaged_.insert(stripe_);
+  ++images_;
   if (first_image_s_ < 0) first_image_s_ = now_s;
   last_image_s_ = now_s;
-  ++stripe_;
-  SequencerActions a = send_goal(now_s);  // the arm moves on while this image is processed
+  SequencerActions a = next_stripe(now_s);  // the arm moves on while this image is processed
   a.changed = true;
   return a;
 }
@@ -94,10 +146,30 @@ SequencerActions ScanSequencer::on_image(int64_t request_id, int64_t image_index
 SequencerActions ScanSequencer::on_points(int64_t image_index, double now_s) {
   if (phase_ != Phase::kProbeImaged || image_index != probe_image_) return {};
   state_ = ScanState::kRunning;
-  stripe_ = 0;
+  if (order_.empty()) {  // nothing to scan
+    phase_ = Phase::kSettling;
+    phase_since_s_ = now_s;
+    return settle(now_s);
+  }
+  pos_ = 0;
+  stripe_ = order_.front();
+  goal_sends_ = 0;
   SequencerActions a = send_goal(now_s);
   a.changed = true;
   return a;
+}
+
+SequencerActions ScanSequencer::on_ranged(int stripe, int range_holds, double now_s) {
+  if (state_ != ScanState::kRunning || stripe < 0 || stripe >= planned()) return {};
+  ranged_.insert(stripe);
+  if (range_holds < static_cast<int>(ranged_.size())) {
+    // The range process holds fewer of this scan's stripes than it has
+    // ranged: it restarted and lost them. Which it still holds is not known
+    // beyond this one; the rest are taken again.
+    ++range_losses_;
+    ranged_ = {stripe};
+  }
+  return settle(now_s);
 }
 
 SequencerActions ScanSequencer::on_motion_done(int64_t goal_id, int status,
@@ -108,16 +180,16 @@ SequencerActions ScanSequencer::on_motion_done(int64_t goal_id, int status,
     case 0:  // done: the arm is at rest there
       phase_ = Phase::kCapturing;
       return capture(now_s, false);
-    case 1: {  // rejected: skip the stripe
-      ++skipped_;
-      ++stripe_;
-      SequencerActions a = send_goal(now_s);
+    case 1: {  // rejected: skip the stripe (a later round asks once more)
+      refused_.insert(stripe_);
+      SequencerActions a = next_stripe(now_s);
       a.changed = true;
       return a;
     }
-    default:
-      return fail(fmt::format("stripe {}: the arm {} the move: {}", stripe_,
-                              status == 2 ? "failed" : "timed out on", reason));
+    case 2:  // failed (the arm stopped): again, from where it stands
+      return resend_goal(now_s, "the arm failed the move: " + reason);
+    default:  // timed out in comm (the arm not answering, or restarted): again
+      return resend_goal(now_s, "the arm timed out on the move: " + reason);
   }
 }
 
@@ -151,10 +223,12 @@ SequencerActions ScanSequencer::tick(double now_s) {
       // same image, which the stripe and range processes then handle again.
       return capture(now_s, true);
     case Phase::kMoving:
-      if (now_s - phase_since_s_ > config_.motion_timeout_s)
-        return fail(fmt::format("stripe {}: no MOTION_DONE for goal {} in {:.0f} s", stripe_,
-                                goal_id_, config_.motion_timeout_s));
+      if (now_s - std::max(phase_since_s_, arm_moving_s_) > config_.motion_timeout_s)
+        return resend_goal(now_s, fmt::format("no MOTION_DONE for goal {} in {:.0f} s", goal_id_,
+                                              config_.motion_timeout_s));
       return {};
+    case Phase::kSettling:
+      return settle(now_s);
     case Phase::kCloud:
       if (now_s - phase_since_s_ > config_.cloud_timeout_s)
         return fail(
@@ -168,14 +242,18 @@ SequencerActions ScanSequencer::tick(double now_s) {
   return {};
 }
 
+void ScanSequencer::on_arm_moving(double now_s) {
+  if (phase_ == Phase::kMoving) arm_moving_s_ = now_s;
+}
+
 double ScanSequencer::elapsed_s(double now_s) const {
   if (first_goal_s_ < 0) return 0.0;
   return (done_s_ >= 0 ? done_s_ : now_s) - first_goal_s_;
 }
 
 double ScanSequencer::stripes_per_s() const {
-  if (captured_ < 2 || !(last_image_s_ > first_image_s_)) return 0.0;
-  return (captured_ - 1) / (last_image_s_ - first_image_s_);
+  if (images_ < 2 || !(last_image_s_ > first_image_s_)) return 0.0;
+  return (images_ - 1) / (last_image_s_ - first_image_s_);
 }
 
 }  // namespace ephor::stripe
