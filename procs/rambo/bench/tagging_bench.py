@@ -28,7 +28,7 @@ def diode_names():
         return re.findall(r'^diode \{ name: "([^"]+)"', f.read(), re.M)
 
 
-def run_seed(seed, diodes, max_s, features, extra):
+def run_seed(seed, diodes, max_s, features, extra, logs=None):
     with tempfile.TemporaryDirectory() as tmp:
         summary = os.path.join(tmp, "summary.json")
         cmd = [os.path.join(ROOT, "tools", "netns-run"), os.path.join(BIN, "ephor-launch"),
@@ -37,6 +37,9 @@ def run_seed(seed, diodes, max_s, features, extra):
                "--summary", summary] + extra
         log = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                              cwd=ROOT)
+        if logs:
+            with open(os.path.join(logs, f"seed{seed}.log"), "w") as f:
+                f.write(log.stdout)
         if not os.path.exists(summary):
             sys.stderr.write(log.stdout[-4000:])
             raise SystemExit(f"bench rambo-tagging: the run with seed {seed} wrote no summary "
@@ -59,15 +62,19 @@ def main():
     ap.add_argument("--arg", action="append", default=[], help="passed to ephor-launch as --arg")
     ap.add_argument("--jsonl", help="append each seed's summary here as it ends")
     ap.add_argument("--json", help="write all summaries and the totals here")
+    ap.add_argument("--logs", help="keep each seed's run output (every process's log) in this "
+                    "directory as seedS.log")
     a = ap.parse_args()
     if a.seeds < 1 or not 1 <= a.diodes <= 8 or a.max_s <= 0:
         print("bench rambo-tagging: --seeds >= 1, --diodes 1-8, --max-s > 0", file=sys.stderr)
         return 2
     extra = [x for arg in a.arg for x in ("--arg", arg)]
+    if a.logs:
+        os.makedirs(a.logs, exist_ok=True)
     runs = []
     print("seed  tagged  time to all s  not tagged                pose mm p50/p99  trajectories/p2p")
     for seed in range(a.first_seed, a.first_seed + a.seeds):
-        s = run_seed(seed, a.diodes, a.max_s, a.features, extra)
+        s = run_seed(seed, a.diodes, a.max_s, a.features, extra, a.logs)
         runs.append(s)
         tagged = {t["name"] for t in s["tasks"]}
         missing = [n for n in diode_names()[:s["diodes"]] if n not in tagged]
