@@ -78,7 +78,18 @@ struct Options {
   double base_yaw_deg = 0.0;      // the PUMA's mounting, Workcell::base_yaw_rad in degrees
   double arm_speed_mm_s = 300.0;  // the point's speed, or the PUMA's tool-speed cap
   int trace_seed = 0;             // runs with this seed print their goals and escapes (0: none)
+  bool pedestal = false;          // ephor-sim's bounces off the pedestal and other sheep
+  bool collisions = false;
+  bool predict_bounces = false;  // PlannerConfig::predict_bounces
 };
+
+// Which of ephor-sim's bounces the stand-in has, for the headers.
+std::string physics(const Options& o) {
+  if (o.pedestal && o.collisions) return "bounces off the pedestal and other sheep";
+  if (o.pedestal) return "bounces off the pedestal";
+  if (o.collisions) return "bounces off other sheep";
+  return "no collisions, no pedestal";
+}
 
 // One line of a traced run: a goal sent, a change of phase or an escape,
 // with where the arm and every sheep are (F, mm, mm/s).
@@ -112,9 +123,12 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
   fc.seed = seed;
   fc.velocity_lag_s = o.lag_s;
   fc.hide_radius_mm = o.hide_mm;
+  fc.pedestal = o.pedestal;
+  fc.sheep_collisions = o.collisions;
   KinematicField field = start ? KinematicField(fc, *start) : KinematicField(fc);
   ephor::planner::PlannerConfig pc;
   pc.workcell = fc.workcell;
+  pc.predict_bounces = o.predict_bounces;
   auto planner = ephor::planner::make_planner(kind, pc);
   ArmModel arm;
   arm.speed_mm_s = o.arm_speed_mm_s;  // what the planner assumes (ephor-planner's arm speed)
@@ -189,6 +203,14 @@ int main(int argc, char** argv) {
   app.add_option("--planner", kinds, "planner kinds to run (default: all)")
       ->check(CLI::IsMember(ephor::planner::planner_kinds()));
   app.add_option("--json", json_path, "write the results here");
+  app.add_flag(
+      "--pedestal", o.pedestal,
+      "sheep bounce off the PUMA's pedestal, as in ephor-sim (default: they pass through)");
+  app.add_flag(
+      "--predict-bounces", o.predict_bounces,
+      "the planner chooses whom to save by bounced paths (PlannerConfig::predict_bounces)");
+  app.add_flag("--collisions", o.collisions,
+               "sheep bounce off each other, as in ephor-sim (default: they pass through)");
   app.add_option("--base-yaw-deg", o.base_yaw_deg,
                  "--arm puma: the arm's base turned by this about the vertical, deg (where joint "
                  "1's wedge falls)")
@@ -216,9 +238,9 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "%zu sheep from %s, %.1f simulated min (lag %.2f s, hidden %.0f mm; arm %s at %.0f mm/s, "
-        "base yaw %.0f deg)\n",
+        "base yaw %.0f deg; %s)\n",
         start.size(), start_path.c_str(), minutes, o.lag_s, o.hide_mm, o.arm.c_str(),
-        o.arm_speed_mm_s, o.base_yaw_deg);
+        o.arm_speed_mm_s, o.base_yaw_deg, physics(o).c_str());
     nlohmann::json runs = nlohmann::json::array();
     for (const std::string& kind : kinds) {
       const Run r = run(kind, static_cast<int>(start.size()), 1, minutes * 60.0, o, &start);
@@ -239,6 +261,8 @@ int main(int argc, char** argv) {
                              {"arm", o.arm},
                              {"arm_speed_mm_s", o.arm_speed_mm_s},
                              {"base_yaw_deg", o.base_yaw_deg},
+                             {"pedestal", o.pedestal},
+                             {"collisions", o.collisions},
                              {"minutes", minutes},
                              {"runs", runs}};
     return json_path.empty() || write_json(json_path, doc) ? 0 : 1;
@@ -247,9 +271,9 @@ int main(int argc, char** argv) {
   nlohmann::json results = nlohmann::json::array();
   std::printf(
       "escapes per 10 simulated min (mean of %d seeds, %.1f min each; lag %.2f s, hidden %.0f "
-      "mm; arm %s at %.0f mm/s, base yaw %.0f deg; sheep %.0f mm/s)\n",
+      "mm; arm %s at %.0f mm/s, base yaw %.0f deg; sheep %.0f mm/s; %s)\n",
       seeds, minutes, o.lag_s, o.hide_mm, o.arm.c_str(), o.arm_speed_mm_s, o.base_yaw_deg,
-      o.sheep_speed_mm_s);
+      o.sheep_speed_mm_s, physics(o).c_str());
   std::printf("%-10s", "planner");
   for (int n = 1; n <= max_sheep; ++n) std::printf("  %2d sheep", n);
   std::printf("   job p50/p99/max us\n");
@@ -299,6 +323,8 @@ int main(int argc, char** argv) {
                            {"arm_speed_mm_s", o.arm_speed_mm_s},
                            {"base_yaw_deg", o.base_yaw_deg},
                            {"sheep_speed_mm_s", o.sheep_speed_mm_s},
+                           {"pedestal", o.pedestal},
+                           {"collisions", o.collisions},
                            {"runs", results}};
   if (!json_path.empty() && !write_json(json_path, doc)) return 1;
   return 0;

@@ -34,23 +34,27 @@ bool FieldRules::heading_to_centre(const Sheep& s) const {
   return cos_angle >= std::cos(config_.heading_to_centre_rad);
 }
 
-bool FieldRules::needs_saving(const Sheep& s) const {
+bool FieldRules::needs_saving(const Sheep& s) const { return needs_saving(s, time_to_boundary(s)); }
+
+bool FieldRules::needs_saving(const Sheep& s, double leaves_in_s) const {
   if (s.state == SheepState::kDead || !finite_sheep(s)) return false;
   if (heading_to_centre(s)) return false;
   if (std::hypot(s.x_mm - centre_x_mm(), s.y_mm - centre_y_mm()) < config_.centre_zone_mm) {
     return false;
   }
-  const double t = time_to_boundary(s);
-  return std::isfinite(t) && t <= config_.save_horizon_s;
+  return std::isfinite(leaves_in_s) && leaves_in_s <= config_.save_horizon_s;
 }
 
 std::vector<int> FieldRules::candidates_by_urgency(const std::vector<Sheep>& sheep) const {
   std::vector<int> out;
   std::vector<double> t(sheep.size());
+  if (config_.predict_bounces) {
+    t = bounces_.exit_times_s(sheep);
+  } else {
+    for (size_t i = 0; i < sheep.size(); ++i) t[i] = time_to_boundary(sheep[i]);
+  }
   for (size_t i = 0; i < sheep.size(); ++i) {
-    if (!needs_saving(sheep[i])) continue;
-    t[i] = time_to_boundary(sheep[i]);
-    out.push_back(static_cast<int>(i));
+    if (needs_saving(sheep[i], t[i])) out.push_back(static_cast<int>(i));
   }
   std::stable_sort(out.begin(), out.end(), [&t, &sheep](int a, int b) {
     const auto ia = static_cast<size_t>(a);

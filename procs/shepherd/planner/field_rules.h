@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "procs/shepherd/planner/bounce_predictor.h"
 #include "procs/shepherd/planner/herd_types.h"
 #include "procs/shepherd/planner/intercept_solver.h"
 
@@ -13,7 +14,13 @@ namespace ephor::planner {
 
 class FieldRules {
  public:
-  explicit FieldRules(const PlannerConfig& config) : config_(config) {}
+  explicit FieldRules(const PlannerConfig& config)
+      : config_(config),
+        bounces_(BouncePredictorConfig{.workcell = config.workcell,
+                                       .sheep_half_length_mm = config.sheep_half_length_mm,
+                                       .sheep_half_width_mm = config.sheep_half_width_mm,
+                                       .horizon_s = config.bounce_horizon_s,
+                                       .min_speed_mm_s = config.min_sheep_speed_mm_s}) {}
 
   const PlannerConfig& config() const { return config_; }
   double centre_x_mm() const { return config_.workcell.centre_x_mm(); }
@@ -27,7 +34,10 @@ class FieldRules {
   // Alive, moving, not headed toward the centre (nor in the centre zone)
   // and leaving within the save horizon: paper step 1's conditions.
   bool needs_saving(const Sheep& sheep) const;
-  // Indices into `sheep` of those that need saving, soonest to leave first.
+  // The same with the time it leaves in given (e.g. a bounced path's).
+  bool needs_saving(const Sheep& sheep, double leaves_in_s) const;
+  // Indices into `sheep` of those that need saving, soonest to leave first
+  // (with config.predict_bounces, leaving along their bounced paths).
   std::vector<int> candidates_by_urgency(const std::vector<Sheep>& sheep) const;
 
   // Inside the field by field_margin_mm and outside the pedestal keep-out.
@@ -43,6 +53,7 @@ class FieldRules {
 
  private:
   PlannerConfig config_;
+  BouncePredictor bounces_;
 };
 
 // True for a sheep with every field finite.

@@ -113,6 +113,14 @@ struct PlannerConfig {
   double centre_zone_mm = 150.0;
   // Slower sheep are treated as stationary (never leave).
   double min_sheep_speed_mm_s = 3.0;
+  // When a sheep leaves, for choosing whom to save and in what order: false,
+  // along its straight line (the paper's step 1); true, also bouncing off
+  // the pedestal and the other sheep as the simulated sheep do, stepped
+  // bounce_horizon_s ahead (BouncePredictor): a sheep walking out that
+  // another will turn back in is not saved, and the order is by the bounced
+  // exits.
+  bool predict_bounces = false;
+  double bounce_horizon_s = 20.0;
   // Only sheep that leave within this time need saving "yet" (paper step 1).
   double save_horizon_s = std::numeric_limits<double>::infinity();
   // The PUMA stands on a pedestal at the field centre and cannot hold the

@@ -49,8 +49,12 @@ void KinematicField::spawn_inside(SimSheep& s) {
   std::uniform_real_distribution<double> us(1.0 - config_.sheep_speed_jitter,
                                             1.0 + config_.sheep_speed_jitter);
   s.id = next_id_++;
-  s.x = ux(rng_);
-  s.y = uy(rng_);
+  // With the pedestal, not on it (ephor-sim keeps a body length clear of it).
+  const double clear_mm = config_.workcell.pedestal_radius_mm + config_.sheep_half_length_mm + 10.0;
+  do {
+    s.x = ux(rng_);
+    s.y = uy(rng_);
+  } while (config_.pedestal && std::hypot(s.x - w.base_x_mm, s.y - w.base_y_mm) < clear_mm);
   s.heading = uh(rng_);
   s.speed = config_.sheep_speed_mm_s * us(rng_);
   s.on_field = true;
@@ -193,6 +197,52 @@ void KinematicField::step(double dt) {
       s.hidden_since_s = -1.0;
     } else if (s.hidden_since_s < 0.0) {
       s.hidden_since_s = now_s_;
+    }
+  }
+  bounce();
+}
+
+double KinematicField::extent(const SimSheep& s, double nx, double ny) const {
+  const double c = std::cos(s.heading), sn = std::sin(s.heading);
+  return config_.sheep_half_length_mm * std::abs(c * nx + sn * ny) +
+         config_.sheep_half_width_mm * std::abs(-sn * nx + c * ny);
+}
+
+void KinematicField::reflect(SimSheep& s, double nx, double ny) {
+  // World::bounce's rule: grazing contacts (under 5 % of the speed into the
+  // obstacle) do not turn the sheep.
+  constexpr double kMinApproach = 0.05;
+  const double fx = std::cos(s.heading), fy = std::sin(s.heading);
+  const double approach = fx * nx + fy * ny;
+  if (approach <= kMinApproach) return;
+  s.old_heading = s.heading;
+  s.turned_at_s = now_s_;
+  s.heading = std::atan2(fy - 2.0 * approach * ny, fx - 2.0 * approach * nx);
+}
+
+void KinematicField::bounce() {
+  const auto& w = config_.workcell;
+  for (size_t i = 0; i < sheep_.size(); ++i) {
+    SimSheep& a = sheep_[i];
+    if (!a.on_field) continue;
+    if (config_.pedestal) {
+      const double dx = w.base_x_mm - a.x, dy = w.base_y_mm - a.y;
+      const double d = std::hypot(dx, dy);
+      if (d > 1e-9 && d <= w.pedestal_radius_mm + extent(a, dx / d, dy / d)) {
+        reflect(a, dx / d, dy / d);
+      }
+    }
+    if (!config_.sheep_collisions) continue;
+    for (size_t j = i + 1; j < sheep_.size(); ++j) {
+      SimSheep& b = sheep_[j];
+      if (!b.on_field) continue;
+      const double dx = b.x - a.x, dy = b.y - a.y;
+      const double d = std::hypot(dx, dy);
+      if (d < 1e-9) continue;
+      const double nx = dx / d, ny = dy / d;
+      if (d > extent(a, nx, ny) + extent(b, nx, ny)) continue;
+      reflect(a, nx, ny);
+      reflect(b, -nx, -ny);
     }
   }
 }

@@ -6,8 +6,10 @@
 // its speed cap in 3-D between the elevation plane (z = 200 mm) and the
 // object plane (z = 30 mm); a lowered tool inside a sheep's body turns that
 // sheep toward the field centre. A sheep whose centre leaves the field is an
-// escape and re-enters from a random edge point after a delay. No
-// collisions, no pedestal. Deterministic for a seed. All in F: mm, mm/s, s.
+// escape and re-enters from a random edge point after a delay. By default no
+// collisions and no pedestal (KinematicFieldConfig::pedestal and
+// sheep_collisions add ephor-sim's bounces). Deterministic for a seed. All in
+// F: mm, mm/s, s.
 //
 // The arm can instead be a real one (KinematicFieldConfig::arm_motion, e.g.
 // PumaArmMotion: the PUMA 560 with ephor-arm's motion planner), so that a
@@ -61,6 +63,15 @@ struct KinematicFieldConfig {
   // velocity it had before (the arm hides its mark from the camera).
   double velocity_lag_s = 0.0;
   double hide_radius_mm = 0.0;
+  // ephor-sim's bounces (common/shepherd/sim/world.h), off by default so that
+  // the stand-in stays the kinematic model its published figures are of: a
+  // sheep driving into the pedestal (workcell.pedestal_radius_mm at the base)
+  // or into another sheep has its heading reflected about the contact normal.
+  // Contact is judged along the line between the centres, each body reaching
+  // its rectangle's extent along that line: exact head-on and side-on, a
+  // little early at a corner. A bounce is seen late like a touch (velocity_lag_s).
+  bool pedestal = false;
+  bool sheep_collisions = false;
   double start_x_mm = 1219.0 - 60.0;  // the arm starts parked
   double start_y_mm = 60.0;
   // A real arm instead of the point (it starts where it is, not at
@@ -105,6 +116,14 @@ class KinematicField {
   void spawn_inside(SimSheep& s);
   void spawn_at_edge(SimSheep& s);
   void step_arm_motion(double dt_s);
+  // The pedestal's and other sheep's bounces after a step (config_.pedestal,
+  // config_.sheep_collisions).
+  void bounce();
+  // How far the body reaches from its centre along the unit vector (nx, ny), mm.
+  double extent(const SimSheep& s, double nx, double ny) const;
+  // Reflects the heading about the unit normal (nx, ny) pointing into the
+  // obstacle, if the sheep drives into it.
+  void reflect(SimSheep& s, double nx, double ny);
 
   KinematicFieldConfig config_;
   std::mt19937 rng_;

@@ -1,7 +1,9 @@
 #include "procs/shepherd/planner/kinematic_field.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -45,6 +47,58 @@ TEST(KinematicFieldTest, LoweredToolTurnsASheepTowardTheCentre) {
   const Scene s = field.scene(ArmModel{});
   EXPECT_TRUE(s.arm.lowered);
   EXPECT_GT(s.sheep[0].vx_mm_s, 0.0);  // now walking toward the centre (x = 609.5)
+}
+
+// ephor-sim's bounces, on request: a sheep driving head-on at the pedestal
+// (workcell base at the field centre, radius 70 mm) comes straight back once
+// its front (114.5 mm ahead of its centre) reaches the column; without the
+// option it passes through.
+TEST(KinematicFieldTest, PedestalReflectsASheepDrivingIntoIt) {
+  KinematicFieldConfig fc;
+  fc.pedestal = true;
+  const double cx = fc.workcell.base_x_mm, cy = fc.workcell.base_y_mm;
+  KinematicField field{fc, {Sheep{1, cx - 400, cy, 20, 0, SheepState::kVisible}}};
+  double closest_mm = 1e9;
+  for (int i = 0; i < 600; ++i) {
+    field.step(0.05);
+    const Sheep s = field.scene(ArmModel{}).sheep[0];
+    closest_mm = std::min(closest_mm, std::hypot(s.x_mm - cx, s.y_mm - cy));
+  }
+  const Sheep s = field.scene(ArmModel{}).sheep[0];
+  EXPECT_LT(s.vx_mm_s, -19.0);  // reflected: straight back
+  EXPECT_NEAR(s.vy_mm_s, 0.0, 1e-6);
+  EXPECT_NEAR(closest_mm, 70.0 + 114.5, 1.5);  // one 1 mm step past the contact at most
+
+  fc.pedestal = false;
+  KinematicField through{fc, {Sheep{1, cx - 400, cy, 20, 0, SheepState::kVisible}}};
+  for (int i = 0; i < 600; ++i) through.step(0.05);
+  EXPECT_GT(through.scene(ArmModel{}).sheep[0].vx_mm_s, 19.0);
+}
+
+// Two sheep meeting side by side at right angles bounce off each other along
+// the line between their centres; without sheep_collisions they pass through.
+TEST(KinematicFieldTest, SheepBounceOffEachOtherOnRequest) {
+  KinematicFieldConfig fc;
+  fc.sheep_collisions = true;
+  // Head-on along x, 400 mm apart, 200 mm from the pedestal's line.
+  const std::vector<Sheep> pair{Sheep{1, 300, 200, 10, 0, SheepState::kVisible},
+                                Sheep{2, 700, 200, -10, 0, SheepState::kVisible}};
+  KinematicField field{fc, pair};
+  double closest_mm = 1e9;
+  for (int i = 0; i < 400; ++i) {
+    field.step(0.05);
+    const Scene sc = field.scene(ArmModel{});
+    closest_mm = std::min(closest_mm, std::abs(sc.sheep[1].x_mm - sc.sheep[0].x_mm));
+  }
+  const Scene sc = field.scene(ArmModel{});
+  EXPECT_LT(sc.sheep[0].vx_mm_s, 0.0);  // both turned back
+  EXPECT_GT(sc.sheep[1].vx_mm_s, 0.0);
+  EXPECT_NEAR(closest_mm, 2 * 114.5, 1.5);  // nose to nose
+
+  fc.sheep_collisions = false;
+  KinematicField through{fc, pair};
+  for (int i = 0; i < 400; ++i) through.step(0.05);
+  EXPECT_GT(through.scene(ArmModel{}).sheep[0].vx_mm_s, 0.0);
 }
 
 struct LoopResult {
