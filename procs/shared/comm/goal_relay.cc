@@ -140,6 +140,13 @@ void GoalRelay::remember_finished(Finished f) {
 }
 
 void GoalRelay::raise_next_seq(int64_t seen_seq) {
+  // A seq no arm reaches (one a second for 10^11 years) is a corrupt message:
+  // following it would overflow the next seq (found by fuzz_comm_goal_relay:
+  // an ARM_STATE with executing_seq 2^63 - 1).
+  if (seen_seq > kMaxSeq || seen_seq < 0) {
+    ++counters_.implausible_seqs;
+    return;
+  }
   if (seen_seq >= next_seq_) next_seq_ = seen_seq + 1;
 }
 

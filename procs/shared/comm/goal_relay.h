@@ -150,6 +150,7 @@ struct RelayCounters {
   int64_t acks_duplicate = 0;    // repeated answers for the in-flight or a finished seq (harmless)
   int64_t late_confirmations = 0;  // final acks after TIMEOUT was reported
   int64_t seq_conflicts = 0;       // in-flight seq answered for another goal: moved to a fresh seq
+  int64_t implausible_seqs = 0;    // negative or beyond kMaxSeq in arm state or an ack: ignored
   int64_t done = 0;
   int64_t rejected = 0;  // by the arm, plus goals_invalid
   int64_t failed = 0;
@@ -183,6 +184,9 @@ std::optional<std::string> goal_problem(const Goal& goal);
 
 class GoalRelay {
  public:
+  // Seqs the relay follows from the arm; beyond it a message is corrupt.
+  static constexpr int64_t kMaxSeq = int64_t{1} << 62;
+
   // Throws std::invalid_argument naming the bad option.
   explicit GoalRelay(RelayOptions options = {});
 

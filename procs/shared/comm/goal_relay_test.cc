@@ -279,6 +279,21 @@ TEST(GoalRelayTest, RestartPicksSeqAboveTheArmsLastSeq) {
   EXPECT_EQ(moving.step(0).commands.at(0).seq, 58);
 }
 
+// Found by fuzz_comm_goal_relay: an arm state (or ack) with seq 2^63 - 1
+// made the next seq overflow (UB; in practice negative seqs). A seq no arm
+// reaches is ignored, counted, and the relay goes on with its own numbering.
+TEST(GoalRelayTest, ImplausibleSeqsFromTheArmAreIgnoredNotFollowed) {
+  GoalRelay relay = ready_relay();
+  relay.on_arm_progress({INT64_MAX, INT64_MAX}, 0);
+  relay.on_arm_progress({-5, -7}, 0);
+  relay.on_ack(Ack{INT64_MAX, 9, AckStatus::kDone, "", 0.0f}, 0);
+  EXPECT_EQ(relay.counters().implausible_seqs, 3);
+  relay.submit(make_goal(1), 0);
+  const RelayOutput out = relay.step(0);
+  ASSERT_EQ(out.commands.size(), 1u);
+  EXPECT_EQ(out.commands[0].seq, 1);
+}
+
 TEST(GoalRelayTest, NoArmHeardEndsTheGoalAsTimeout) {
   RelayOptions o;
   o.retry_interval_us = 100 * kMs;

@@ -349,11 +349,11 @@ int main(int argc, char** argv) {
         "goals {} (invalid {}, superseded {}, duplicate {}); commands {} + {} retransmissions + {} "
         "polls; "
         "done {}, rejected {}, failed {}, timeout {}; acks unknown {}, duplicate {}, late {}, bad "
-        "{}; "
+        "{}; implausible seqs {}; "
         "foreign senders: acks {}, states {}; inbox drops: goals {}, acks {}",
         c.goals_received, c.goals_invalid, c.goals_superseded, c.goals_duplicate, c.commands_sent,
         c.retransmissions, c.polls, c.done, c.rejected, c.failed, c.timeouts, c.acks_unknown,
-        c.acks_duplicate, c.late_confirmations, bad_acks, foreign_acks.count(),
+        c.acks_duplicate, c.late_confirmations, bad_acks, c.implausible_seqs, foreign_acks.count(),
         foreign_states.count(), goals.dropped(), acks.dropped());
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
