@@ -40,7 +40,11 @@
 // prior and, with one, kept only when it agrees with the prior
 // (prior_agree_mm of the centre, prior_agree_deg). A pose that stands on its
 // own is kept even far from the prior: the prior may be the one that is
-// wrong.
+// wrong. So that a wrong prior cannot hide such a pose by pruning it away,
+// a pruned search that finds nothing standing alone is followed by the
+// unpruned one. A candidate also needs no rival that fits one image point
+// fewer strictly better: a stray corner near a vertex can let a wrong pose
+// fit one point more than the truth does.
 
 #include <optional>
 #include <string>
@@ -116,6 +120,10 @@ class TrianglePoseEstimator {
                                   std::vector<Eigen::Isometry3d>* poses);
 
  private:
+  // One search: pruned by the prior when there is one (estimate() adds the
+  // unpruned search when nothing near the prior stands alone).
+  TrianglePoseResult estimate_once(const std::vector<ImageTriple>& triples,
+                                   const Eigen::Isometry3d* prior) const;
   TargetModel model_;
   CameraIntrinsics camera_;
   TrianglePoseOptions options_;
