@@ -21,6 +21,26 @@ Eigen::Isometry3d FittedMotion::pose(double t_s) const {
   return p;
 }
 
+JointSample TaggingTrajectory::at(double t_s) const {
+  if (samples.empty()) return {};
+  const double u = (t_s - t0_s) / dt_s;
+  if (!(u > 0.0)) return samples.front();
+  const auto k = static_cast<std::size_t>(u);
+  if (k + 1 >= samples.size()) {
+    JointSample rest;
+    rest.q = samples.back().q;
+    return rest;
+  }
+  const double a = u - static_cast<double>(k);
+  const JointSample& s0 = samples[k];
+  const JointSample& s1 = samples[k + 1];
+  JointSample js;
+  js.q = (1.0 - a) * s0.q + a * s1.q;
+  js.qd = (1.0 - a) * s0.qd + a * s1.qd;
+  js.qdd = (1.0 - a) * s0.qdd + a * s1.qdd;
+  return js;
+}
+
 bool FittedMotion::finite() const {
   return std::isfinite(t_ref_s) && position_mm.allFinite() && velocity_mm_s.allFinite() &&
          orientation.coeffs().allFinite() && orientation.norm() > 0.5 &&
@@ -173,9 +193,10 @@ TaggingStep TaggingPlanner::step(double now_s, const FittedMotion& motion,
 
 std::optional<TaggingTrajectory> TaggingPlanner::reaching_trajectory(
     int diode, double now_s, const FittedMotion& motion, const arm::Joints& q,
-    const arm::Joints& qd, std::string* why, double limit_fraction) const {
+    const arm::Joints& qd, std::string* why, double limit_fraction,
+    const TaggingTrajectory* from) const {
   if (diode < 0 || diode >= static_cast<int>(cell_.diodes.size()) || !motion.finite() ||
-      !q.allFinite() || !qd.allFinite()) {
+      !q.allFinite() || !qd.allFinite() || (from && from->samples.empty())) {
     if (why) *why = "no such diode, or a non-finite motion or arm state";
     return std::nullopt;
   }
@@ -189,6 +210,7 @@ std::optional<TaggingTrajectory> TaggingPlanner::reaching_trajectory(
   const int n = static_cast<int>(std::ceil(horizon_s / dt)) + 1;
   auto current = std::make_shared<const SampledJointTrajectory>(
       SampledJointTrajectory::from_function(now_s, dt, n, [&](double t) {
+        if (from) return from->at(t);
         JointSample js;
         js.q = q + qd * (t - now_s);
         js.qd = qd;

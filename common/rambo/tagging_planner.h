@@ -74,6 +74,9 @@ struct TaggingTrajectory {
   int durations_tried = 0;  // section 9's columns computed
   bool via_intermediate_goal = false;
   double end_s() const { return t0_s + dt_s * static_cast<double>(samples.size() - 1); }
+  // The state at t_s (wall clock, s): linear between samples; before t0_s
+  // the first sample, after the end at rest at the last one's position.
+  JointSample at(double t_s) const;
 };
 
 class TaggingPlanner {
@@ -95,11 +98,15 @@ class TaggingPlanner {
   // trajectory, then a stop (each joint slowed to rest at half its
   // acceleration limit; the arm's servo would otherwise stop it at once).
   // nullopt, with why, when no duration up to 6 s works.
-  std::optional<TaggingTrajectory> reaching_trajectory(int diode, double now_s,
-                                                       const FittedMotion& motion,
-                                                       const arm::Joints& q, const arm::Joints& qd,
-                                                       std::string* why,
-                                                       double limit_fraction = 0.8) const;
+  // from: the trajectory the arm is executing (section 8: "the present joint
+  // trajectory, which may itself be a reaching trajectory started after a
+  // previous update"): the new one leaves it at now_s, in position and
+  // velocity, instead of the arm's state extrapolated at constant velocity
+  // (q, qd are then not used).
+  std::optional<TaggingTrajectory> reaching_trajectory(
+      int diode, double now_s, const FittedMotion& motion, const arm::Joints& q,
+      const arm::Joints& qd, std::string* why, double limit_fraction = 0.8,
+      const TaggingTrajectory* from = nullptr) const;
 
  private:
   std::optional<arm::Joints> goal_joints(int diode, const FittedMotion& m, double t_s,

@@ -198,5 +198,64 @@ TEST(TaggingPlanner, ReachingTrajectoryStartsAtTheArmAndHoldsTheBeamOnTheDiode) 
   EXPECT_FALSE(why.empty());
 }
 
+// Section 8's re-planning: when the prediction updates while the arm is on
+// a reaching trajectory, the new one leaves that trajectory (not the arm's
+// state extrapolated at constant velocity) in position and velocity, and
+// lands on the updated goal trajectory with the beam in the lens.
+TEST(TaggingPlanner, ReplanningLeavesTheRunningTrajectoryAndFollowsTheNewPrediction) {
+  const RamboCell cell = RamboCell::make(4);
+  TumblingMotion m = cell.draw_motion(3, 2.0, 1.0);
+  FittedMotion f;
+  f.t_ref_s = 100.0;
+  f.position_mm = m.pose0.translation();
+  f.velocity_mm_s = m.velocity_mm_s;
+  f.orientation = Eigen::Quaterniond::Identity();
+  f.body_rates_rad_s = Eigen::Vector3d(0.0, 0.0, 0.03);
+  f.principal_moments = cell.principal_moments;
+  const TaggingPlanner planner(cell);
+  const arm::Puma560 arm(cell.tool_length_mm);
+  std::string why;
+  const auto first =
+      planner.reaching_trajectory(0, 100.0, f, cell.start_joints, arm::Joints::Zero(), &why);
+  ASSERT_TRUE(first.has_value()) << why;
+  // Halfway to landing the prediction moves: 20 mm aside, turning faster.
+  const double t1 = 0.5 * (first->t0_s + first->t_land_s);
+  ASSERT_GT(first->t_land_s - t1, 0.1);
+  FittedMotion g = f;
+  g.position_mm += Eigen::Vector3d(0.0, 20.0, 0.0);
+  g.body_rates_rad_s = Eigen::Vector3d(0.0, 0.01, 0.035);
+  const JointSample there = first->at(t1);
+  ASSERT_GT(there.qd.cwiseAbs().maxCoeff(), 1e-3);  // moving
+  // The arm's state is given wrong on purpose: with `from` it is not used.
+  const auto second = planner.reaching_trajectory(0, t1, g, cell.start_joints, arm::Joints::Zero(),
+                                                  &why, 0.8, &*first);
+  ASSERT_TRUE(second.has_value()) << why;
+  EXPECT_LT((second->samples.front().q - there.q).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_LT((second->samples.front().qd - there.qd).cwiseAbs().maxCoeff(), 1e-6);
+  // Within the arm's step limits from sample to sample, and on the new
+  // goal point while holding.
+  const arm::JointLimits& lim = arm.limits();
+  for (std::size_t k = 1; k < second->samples.size(); ++k)
+    for (int j = 0; j < 6; ++j)
+      EXPECT_LE(std::abs(second->samples[k].qd[j] - second->samples[k - 1].qd[j]) / second->dt_s,
+                lim.qdd_max[j])
+          << "sample " << k << " joint " << j;
+  DiodeIndicator ind(cell.diodes, 5.0, 12.0, 1.0);
+  int lit = 0, holding = 0;
+  for (std::size_t k = 0; k < second->samples.size(); ++k) {
+    const double ts = second->t0_s + second->dt_s * static_cast<double>(k);
+    if (ts < second->t_land_s + 1e-9 || ts > second->hold_end_s + 1e-9) continue;
+    ++holding;
+    const Eigen::Isometry3d tool = arm.forward(second->samples[k].q);
+    lit += ind.read(0, g.pose(ts), tool.translation(), tool.linear().col(2)).lit ? 1 : 0;
+  }
+  EXPECT_GE(holding, 39);
+  EXPECT_EQ(lit, holding);
+  // The running trajectory between samples and beyond its end (at rest).
+  const JointSample end = first->at(first->end_s() + 1.0);
+  EXPECT_LT((end.q - first->samples.back().q).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(end.qd.cwiseAbs().maxCoeff(), 0.0);
+}
+
 }  // namespace
 }  // namespace ephor::rambo

@@ -5,10 +5,14 @@
 // shortest within the joint limits onto the diode's predicted goal-point
 // trajectory, then that trajectory followed for the hold) as one
 // KIND_TRAJECTORY goal, which the shared arm checks against its limits and
-// executes as given; when it ends with the diode not tagged, a new one from
-// where the arm is. --reach goals streams point-to-point joint goals a short
-// lead ahead instead (the earlier way). The shared comm (newest goal wins)
-// and arm carry them out; the target's indicator says which diodes are done.
+// executes as given; each newer prediction while the arm is on it re-plans
+// it from the trajectory being executed (section 8); when it ends with the
+// diode not tagged, a new one from where the arm is. With no fresh
+// prediction the arm goes back to the start pose, whose view holds the
+// target, so the camera on the tool sees it again. --reach goals streams
+// point-to-point joint goals a short lead ahead instead (the earlier way).
+// The shared comm (newest goal wins) and arm carry them out; the target's
+// indicator says which diodes are done.
 //
 //   subscribes  RAMBO_PREDICTION (rambo_prediction_t), RAMBO_INDICATOR
 //               (rambo_indicator_t), ARM_STATE (arm_state_t)
@@ -47,6 +51,8 @@ namespace {
 // ARM_GOAL to the arm's servo through comm, about: a reaching trajectory
 // starts where the arm will be then, s.
 constexpr double kLatencyS = 0.03;
+// No re-plan this close before a reaching trajectory lands, s (see below).
+constexpr double kReplanBeforeLandS = 0.3;
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,6 +120,9 @@ int main(int argc, char** argv) {
     std::optional<arm::Joints> sent_goal;
     std::string last_status;
     std::vector<int> logged_order{-1};
+    std::optional<TaggingTrajectory> sent_trajectory;  // the last reaching trajectory sent
+    std::atomic<int64_t> replans{0};                   // of them, re-planned from the one running
+    bool looking = false;  // sent back to the viewing pose since the prediction went stale
 
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
@@ -162,7 +171,7 @@ int main(int argc, char** argv) {
     runtime.add_periodic(
         "plan", std::chrono::microseconds(static_cast<int64_t>(period_ms * 1e3)), [&] {
           rambo_plan_t plan{};
-          std::optional<arm::Joints> goal;
+          std::optional<arm::Joints> goal, look_goal;
           int64_t source_utime = 0;
           {
             std::lock_guard<std::mutex> lock(mutex);
@@ -173,7 +182,20 @@ int main(int argc, char** argv) {
               plan.status = "waiting for a prediction and the arm";
             } else if (static_cast<double>(now - motion_utime) * 1e-6 > max_prediction_age_s) {
               plan.status = "prediction too old";
+              // The camera is on the tool: after a reach that lost the
+              // target (a wrong pose, or the tumble turning it away) no
+              // frame shows it again while the arm waits where it is. Once
+              // per loss, back to the start pose, whose view holds the whole
+              // target (RamboCell), when no trajectory is running.
+              if (!looking && now >= trajectory_end_utime &&
+                  (*q_now - cell.start_joints).cwiseAbs().maxCoeff() > arrive_rad) {
+                looking = true;
+                look_goal = cell.start_joints;
+                plan.status = "prediction too old: back to the viewing pose";
+                trajectory_task = -2;
+              }
             } else {
+              looking = false;
               const TaggingStep s =
                   planner.step(static_cast<double>(now) * 1e-6, *motion, tagged, *q_now);
               plan.status = s.status;
@@ -208,37 +230,57 @@ int main(int argc, char** argv) {
           if (goal && reach == "trajectory") {
             std::lock_guard<std::mutex> lock(mutex);
             const int64_t now = wall_us();
-            // On the diode's goal point (landed, holding), a newer
-            // prediction re-plans from where the arm is: the hold follows
-            // the newest motion. Not while reaching: the arm is fast then,
-            // and a trajectory must start where the arm is.
-            const bool holding = plan.current_task == trajectory_task &&
-                                 now >= trajectory_land_utime && now < trajectory_end_utime;
-            if (plan.current_task == trajectory_task && now < trajectory_end_utime &&
-                !(holding && motion_utime != trajectory_motion_utime)) {
+            // While the arm is on a trajectory to this diode (reaching or
+            // holding), each newer prediction re-plans it (section 8: "the
+            // reaching trajectory ... should be recomputed based on the new
+            // goal trajectory, and the present joint trajectory, which may
+            // itself be a reaching trajectory"): the new one leaves the
+            // trajectory being executed where the arm will be on it when the
+            // goal arrives, in position and velocity.
+            // Not in the last kReplanBeforeLandS before landing: the arm
+            // is then near the goal trajectory anyway, and fast, so the
+            // new start would be furthest from where the arm really is
+            // (the arm refuses a start more than 0.05 rad off); it
+            // re-plans again once on the goal point.
+            const bool on_it = plan.current_task == trajectory_task && sent_trajectory &&
+                               now < trajectory_end_utime;
+            const bool landing =
+                now < trajectory_land_utime &&
+                now > trajectory_land_utime - std::llround(kReplanBeforeLandS * 1e6);
+            if (on_it && (motion_utime == trajectory_motion_utime || landing)) {
               goal.reset();  // the arm is on it
             } else {
               std::string why;
               // Starts where the arm will be when it gets it: the state
-              // extrapolated to now + the relay's latency.
+              // extrapolated to now + the relay's latency (or the running
+              // trajectory then).
               const double t0_s = static_cast<double>(now) * 1e-6 + kLatencyS;
               const double ahead_s = t0_s - static_cast<double>(state_utime) * 1e-6;
               const arm::Joints q0 = *q_now + *qd_now * std::clamp(ahead_s, 0.0, 0.2);
-              reaching = planner.reaching_trajectory(plan.current_task, t0_s, *motion, q0, *qd_now,
-                                                     &why, limit_fraction);
+              reaching =
+                  planner.reaching_trajectory(plan.current_task, t0_s, *motion, q0, *qd_now, &why,
+                                              limit_fraction, on_it ? &*sent_trajectory : nullptr);
+              if (!reaching && on_it) {
+                // No better one from here: the arm stays on the one it has.
+                trajectory_motion_utime = motion_utime;
+                goal.reset();
+              }
               if (reaching) {
+                if (on_it) ++replans;
+                sent_trajectory = reaching;
                 trajectory_task = plan.current_task;
                 trajectory_end_utime = std::llround(reaching->end_s() * 1e6);
                 trajectory_land_utime = std::llround(reaching->t_land_s * 1e6);
                 trajectory_motion_utime = motion_utime;
                 spdlog::info(
-                    "reaching trajectory to diode {}: lands in {:.2f} s{} ({} durations tried), "
+                    "{}reaching trajectory to diode {}: lands in {:.2f} s{} ({} durations tried), "
                     "then {:.1f} s on the goal point",
+                    on_it ? "re-planned " : "",
                     cell.diodes[static_cast<std::size_t>(plan.current_task)].name,
                     reaching->t_land_s - reaching->t0_s,
                     reaching->via_intermediate_goal ? " via a safe intermediate goal" : "",
                     reaching->durations_tried, reaching->hold_end_s - reaching->t_land_s);
-              } else {
+              } else if (goal) {
                 // The point-to-point goal below instead.
                 if (++trajectory_failures % 10 == 1)
                   spdlog::warn("no reaching trajectory to diode {} ({}): a joint goal instead",
@@ -262,6 +304,12 @@ int main(int argc, char** argv) {
             } else {
               goal.reset();
             }
+          }
+          if (look_goal) {
+            goal = look_goal;
+            std::lock_guard<std::mutex> lock(mutex);
+            sent_goal = goal;
+            sent_task = -1;
           }
           if (goal) {
             arm_goal_t g{};
@@ -297,8 +345,10 @@ int main(int argc, char** argv) {
                  options.lead_s);
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} goals sent ({} reaching trajectories), {} bad messages", goals.load(),
-                 trajectories.load(), bad.load());
+    spdlog::info(
+        "summary: {} goals sent ({} reaching trajectories, {} of them re-planned from the one "
+        "running), {} bad messages",
+        goals.load(), trajectories.load(), replans.load(), bad.load());
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-planner: " << e.what() << "\n";
