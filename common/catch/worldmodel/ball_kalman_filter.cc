@@ -19,10 +19,13 @@ BallKalmanFilter::BallKalmanFilter(const BallKalmanParams& params) : params_(par
       !(params.initial_velocity_sigma_mm_s > 0.0) ||
       !std::isfinite(params.initial_velocity_sigma_mm_s) ||
       !std::isfinite(params.bounce_nis_threshold) ||
-      !finite_non_negative(params.bounce_velocity_sigma_mm_s)) {
+      !finite_non_negative(params.bounce_velocity_sigma_mm_s) ||
+      !finite_non_negative(params.peg_position_sigma_mm) ||
+      !finite_non_negative(params.restitution_sigma) ||
+      !(params.bounce_min_cos > 0.0 && params.bounce_min_cos <= 1.0)) {
     throw std::invalid_argument(
         "BallKalmanFilter: parameters must be finite, sigmas >= 0 and the initial velocity "
-        "sigma > 0");
+        "sigma > 0, bounce_min_cos in (0, 1]");
   }
 }
 
@@ -58,11 +61,36 @@ void BallKalmanFilter::set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, doubl
   restitution_ = restitution;
 }
 
+Eigen::Matrix2d BallKalmanFilter::bounce_velocity_covariance(const Eigen::Vector2d& v_in,
+                                                             const Eigen::Vector2d& n,
+                                                             const Eigen::Matrix2d& position_cov,
+                                                             double rest_s) {
+  last_bounce_rest_s_ = std::max(0.0, rest_s);
+  const double speed = v_in.norm();
+  if (!(speed > 1e-9)) return Eigen::Matrix2d::Zero();
+  const Eigen::Vector2d t(-n.y(), n.x());
+  const double vn = v_in.dot(n), vt = v_in.dot(t);
+  // The impact offset's variance: the survey's per axis, and the ball's
+  // position across its path.
+  const Eigen::Vector2d across(-v_in.y() / speed, v_in.x() / speed);
+  const double var_b = params_.peg_position_sigma_mm * params_.peg_position_sigma_mm +
+                       across.dot(position_cov * across);
+  const double cos_alpha = std::max(params_.bounce_min_cos, std::abs(vn) / speed);
+  const double var_theta = var_b / (peg_reach_mm_ * peg_reach_mm_ * cos_alpha * cos_alpha);
+  const Eigen::Vector2d g = -(1.0 + restitution_) * (vt * n + vn * t);
+  const double se = params_.restitution_sigma;
+  return var_theta * g * g.transpose() + se * se * vn * vn * n * n.transpose();
+}
+
 void BallKalmanFilter::predict(double dt_s) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const double t = dt_s, a = params_.acceleration_mm_s2;
-  // The velocity's reflections on the way (identity without a bounce).
+  // The velocity's reflections on the way (identity without a bounce), and
+  // the bounces' own uncertainty, of (position, velocity) at the end of
+  // the step.
   Eigen::Matrix2d reflect = Eigen::Matrix2d::Identity();
+  Eigen::Matrix4d bounce_q = Eigen::Matrix4d::Zero();
+  const Eigen::Matrix2d position_cov = p_.topLeftCorner<2, 2>();
   if (pegs_.empty()) {
     x_(0) += x_(2) * t;
     x_(1) += x_(3) * t + 0.5 * a * t * t;
@@ -83,6 +111,10 @@ void BallKalmanFilter::predict(double dt_s) {
         if (vn >= 0.0) continue;
         const Eigen::Matrix2d m =
             Eigen::Matrix2d::Identity() - (1.0 + restitution_) * n * n.transpose();
+        const Eigen::Vector2d v_in = x_.tail<2>();
+        bounce_q.bottomRightCorner<2, 2>() = m * bounce_q.bottomRightCorner<2, 2>() * m.transpose();
+        bounce_q.bottomRightCorner<2, 2>() +=
+            bounce_velocity_covariance(v_in, n, position_cov, t - (k + 1) * h);
         x_.tail<2>() = m * x_.tail<2>();
         x_.head<2>() = c + n * peg_reach_mm_;
         reflect = m * reflect;
@@ -111,6 +143,16 @@ void BallKalmanFilter::predict(double dt_s) {
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
     m.bottomRightCorner<2, 2>() = reflect;
     p_ = m * p_ * m.transpose();
+    // The bounce's velocity error, and what it moved the ball in the rest
+    // of the step (last_bounce_rest_s_, the last bounce's; a second bounce
+    // within one step is rare and shares it).
+    const Eigen::Matrix2d qv = bounce_q.bottomRightCorner<2, 2>();
+    const double rest = last_bounce_rest_s_;
+    p_.topLeftCorner<2, 2>() += rest * rest * qv;
+    p_.topRightCorner<2, 2>() += rest * qv;
+    p_.bottomLeftCorner<2, 2>() += rest * qv;
+    p_.bottomRightCorner<2, 2>() += qv;
+    p_ = 0.5 * (p_ + p_.transpose());
   }
   since_update_s_ += t;
 }

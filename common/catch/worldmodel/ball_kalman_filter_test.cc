@@ -144,5 +144,56 @@ TEST(BallKalmanFilterTest, PredictBouncesTheBallOffAKnownPeg) {
   EXPECT_THROW(free.set_pegs({Eigen::Vector2d(1.0, 1.0)}, 0.0), std::invalid_argument);
 }
 
+// The velocity variance a modelled bounce adds: none with a perfectly known
+// peg and restitution and a certain position; more for a grazing contact
+// than for a head-on one (the outgoing direction of a graze is nearly
+// unknown).
+TEST(BallKalmanFilterTest, AModelledBounceAddsVelocityUncertaintyMostWhenGrazing) {
+  const BoardPlacement placement;
+  const auto added_velocity_variance = [&](double offset_mm, const BallKalmanParams& params) {
+    BallKalmanFilter filter(params);
+    filter.set_pegs({Eigen::Vector2d(300.0 - offset_mm, 300.0)}, 26.0);
+    filter.initialise({300.0, 250.0}, Eigen::Matrix2d::Identity() * 1e-6,
+                      Eigen::Vector2d(0.0, 1000.0));
+    BallKalmanFilter free(params);
+    free.initialise({300.0, 250.0}, Eigen::Matrix2d::Identity() * 1e-6,
+                    Eigen::Vector2d(0.0, 1000.0));
+    for (int i = 0; i < 6; ++i) {
+      filter.predict(1.0 / 60.0);
+      free.predict(1.0 / 60.0);
+    }
+    EXPECT_EQ(filter.peg_bounces(), 1) << "offset " << offset_mm;
+    const Eigen::Matrix4d p = filter.covariance();
+    EXPECT_LT((p - p.transpose()).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d>(p).eigenvalues().minCoeff(), 0.0);
+    // The reflection keeps the trace of the velocity block without the
+    // bounce's own error (restitution 0.5 shrinks it, never grows it).
+    return p.bottomRightCorner<2, 2>().trace() -
+           free.covariance().bottomRightCorner<2, 2>().trace();
+  };
+  BallKalmanParams params = params_for(placement);
+  params.initial_velocity_sigma_mm_s = 1e-3;  // the incoming velocity known
+  BallKalmanParams exact = params;
+  exact.peg_position_sigma_mm = 0.0;
+  exact.restitution_sigma = 0.0;
+  EXPECT_LT(added_velocity_variance(5.0, exact), 1.0);  // (mm/s)^2: nothing added
+  const double head_on = added_velocity_variance(5.0, params);
+  const double grazing = added_velocity_variance(24.0, params);
+  std::printf("added velocity sigma: head-on %.0f mm/s, grazing %.0f mm/s\n", std::sqrt(head_on),
+              std::sqrt(grazing));
+  // Head on at 1 m/s: (1 + e) 1000 mm/s x 0.5 mm / 26 mm ~ 29 mm/s and the
+  // restitution's 0.05 x 1000 mm/s.
+  EXPECT_GT(std::sqrt(head_on), 25.0);
+  EXPECT_LT(std::sqrt(head_on), 80.0);
+  EXPECT_GT(grazing, 2.0 * head_on);  // 95 against 61 mm/s at 24 and 5 mm off centre
+
+  BallKalmanParams bad = params;
+  bad.bounce_min_cos = 0.0;
+  EXPECT_THROW(BallKalmanFilter{bad}, std::invalid_argument);
+  bad = params;
+  bad.peg_position_sigma_mm = -1.0;
+  EXPECT_THROW(BallKalmanFilter{bad}, std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ephor::catching

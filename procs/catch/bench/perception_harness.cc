@@ -67,6 +67,9 @@ struct BallScore {
   double true_exit_x_mm = 0.0;
   double exit_time_s = 0.0;      // from release
   double lead_s = std::nan("");  // settled this long before the exit (NaN: never)
+  // The same rule for a prediction from the true state (position and
+  // velocity) with the pegs the model knows: the ceiling of a perfect filter.
+  double oracle_lead_s = std::nan("");
   double last_error_mm = std::nan("");
   double max_error_mm = 0.0;    // filtered position, while on the board
   double max_error_y_mm = 0.0;  // truth y where it was largest
@@ -80,9 +83,9 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   int balls = 10;
   double tolerance_mm = 30.0, gap_s = 1.0, pixel_sigma_px = 0.5, accel_sigma_y = 200.0,
-         bounce_nis = 16.0;
+         bounce_nis = 16.0, peg_sigma_mm = 0.5, restitution_sigma = 0.05, bounce_min_cos = 0.2;
   bool verbose = false, no_pegs = false, known_radius = false, park = false, true_centre = false,
-       no_background = false, arm_moves = false;
+       no_background = false, arm_moves = false, exact_pegs = false;
   std::string json_path, board_path = "deploy/catch/board.pbtxt",
                          workcell_path = "deploy/catch/workcell.pbtxt";
   app.add_option("--seed", seed, "scenario seed (default 1)");
@@ -99,6 +102,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 100000.0));
   app.add_option("--bounce-nis", bounce_nis, "Kalman bounce NIS threshold (default 16)")
       ->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--peg-sigma-mm", peg_sigma_mm,
+                 "Kalman: the pegs' survey error for a modelled bounce, mm (default 0.5)")
+      ->check(CLI::Range(0.0, 100.0));
+  app.add_option("--restitution-sigma", restitution_sigma,
+                 "Kalman: the restitution's error for a modelled bounce (default 0.05)")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--bounce-min-cos", bounce_min_cos,
+                 "Kalman: floor of cos(angle of incidence) for a modelled bounce (default 0.2)")
+      ->check(CLI::Range(0.01, 1.0));
   app.add_flag("--no-pegs", no_pegs, "the world model does not know the pegs");
   app.add_flag("--known-radius", known_radius,
                "give the vision the ball's image radius from the pose (the offline tracker's way)");
@@ -109,6 +121,8 @@ int main(int argc, char** argv) {
   app.add_flag("--arm-moves", arm_moves,
                "the arm swings 0.3 rad in view during each roll (as Prim chasing) and back "
                "between balls");
+  app.add_flag("--exact-pegs", exact_pegs,
+               "the world model knows the pegs exactly (not with the simulator's 0.5 mm noise)");
   app.add_flag("--park", park, "the arm parked out of view instead of at the ready point");
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option("--workcell", workcell_path, "work cell file");
@@ -174,7 +188,12 @@ int main(int argc, char** argv) {
     params.pixel_sigma_px = pixel_sigma_px;
     params.filter.accel_sigma_y_mm_s2 = accel_sigma_y;
     params.filter.bounce_nis_threshold = bounce_nis;
+    params.filter.peg_position_sigma_mm = peg_sigma_mm;
+    params.filter.restitution_sigma = restitution_sigma;
+    params.filter.bounce_min_cos = bounce_min_cos;
     BallWorldModel model(board, scenario.placement, intrinsics, pose.board_to_camera, params);
+    // The oracle: the exit predicted from the true state, with the model's pegs.
+    ExitPredictor oracle(board, scenario.placement, params.exit);
     if (!no_pegs) {
       // The pegs as ephor-catch-sim publishes them: 0.5 mm of noise, its seed.
       std::mt19937_64 rng(seed ^ 0x9e65ULL);
@@ -182,9 +201,11 @@ int main(int argc, char** argv) {
       std::vector<Eigen::Vector2d> pegs;
       for (const Peg& p : scenario.pegs) {
         const double x = p.x_mm + noise(rng);
-        pegs.emplace_back(x, p.y_mm + noise(rng));
+        const double y = p.y_mm + noise(rng);
+        pegs.emplace_back(exact_pegs ? p.x_mm : x, exact_pegs ? p.y_mm : y);
       }
       model.set_pegs(pegs, 0.5 * scenario.peg_diameter_mm);
+      oracle.set_pegs(pegs, 0.5 * scenario.peg_diameter_mm);
     }
 
     const double frame_s = 1.0 / 60.0, step_s = 0.001;
@@ -250,6 +271,7 @@ int main(int argc, char** argv) {
       score.true_exit_x_mm = ex.x_b_mm;
       score.exit_time_s = ex.time_s - release_t;
       std::optional<double> settled_since;  // world time since all predictions were inside
+      std::optional<double> oracle_settled_since;
       bool any_prediction = false;
       if (arm_moves) {
         // As Prim chasing a prediction: from 0.15 s after the release the
@@ -267,6 +289,15 @@ int main(int argc, char** argv) {
         if (!s.on_board) return;
         ++score.frames;
         const Eigen::Vector2d truth = s.position_b_mm.head<2>();
+        {
+          Eigen::Vector4d state;
+          state << truth, s.velocity_b_mm_s.head<2>();
+          const ExitPrediction o = oracle.predict(state, Eigen::Matrix4d::Zero());
+          if (!o.ok() || std::abs(o.exit_x_b_mm - ex.x_b_mm) > tolerance_mm)
+            oracle_settled_since.reset();
+          else if (!oracle_settled_since)
+            oracle_settled_since = t;
+        }
         if (f.has_measurement)
           measured_errors.push_back((f.measured_b_mm.head<2>() - truth).norm());
         if (f.has_state &&
@@ -304,11 +335,13 @@ int main(int argc, char** argv) {
                     << (f.bounce ? " BOUNCE" : "") << "\n";
       });
       if (any_prediction && settled_since) score.lead_s = ex.time_s - *settled_since;
+      if (oracle_settled_since) score.oracle_lead_s = ex.time_s - *oracle_settled_since;
       std::cout << "ball " << k << ": exit x " << score.true_exit_x_mm << " mm after "
-                << score.exit_time_s << " s; settled " << score.lead_s << " s ahead; last error "
-                << score.last_error_mm << " mm; max track error " << score.max_error_mm
-                << " mm at y " << score.max_error_y_mm << "; tracked " << score.tracked << "/"
-                << score.frames << "\n";
+                << score.exit_time_s << " s; settled " << score.lead_s << " s ahead (oracle "
+                << score.oracle_lead_s << " s); last error " << score.last_error_mm
+                << " mm; max track error " << score.max_error_mm << " mm at y "
+                << score.max_error_y_mm << "; tracked " << score.tracked << "/" << score.frames
+                << "\n";
       scores.push_back(score);
       if (arm_moves) {
         // The arm comes back from a catch beside the board to the ready
@@ -328,8 +361,10 @@ int main(int argc, char** argv) {
       }
     }
 
-    int lead05 = 0, lead06 = 0, lead07 = 0, wrong = 0;
+    int lead05 = 0, lead06 = 0, lead07 = 0, wrong = 0, oracle05 = 0, oracle07 = 0;
     for (const auto& s : scores) {
+      if (std::isfinite(s.oracle_lead_s) && s.oracle_lead_s >= 0.5) ++oracle05;
+      if (std::isfinite(s.oracle_lead_s) && s.oracle_lead_s >= 0.7) ++oracle07;
       if (std::isfinite(s.lead_s) && s.lead_s >= 0.5) ++lead05;
       if (std::isfinite(s.lead_s) && s.lead_s >= 0.6) ++lead06;
       if (std::isfinite(s.lead_s) && s.lead_s >= 0.7) ++lead07;
@@ -342,6 +377,8 @@ int main(int argc, char** argv) {
     j["settled_0_6s"] = lead06;
     j["settled_0_7s"] = lead07;
     j["wrong_place"] = wrong;
+    j["oracle_settled_0_5s"] = oracle05;
+    j["oracle_settled_0_7s"] = oracle07;
     j["position_error_mm"] = {{"p50", percentile(filtered_errors, 50)},
                               {"p99", percentile(filtered_errors, 99)},
                               {"max", percentile(filtered_errors, 100)},
