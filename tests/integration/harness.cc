@@ -3,10 +3,12 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -156,16 +158,82 @@ PacketLoss::~PacketLoss() {
     std::fprintf(stderr, "iptables could not remove '%s'\n", rule_.c_str());
 }
 
-std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines) {
+std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines,
+                                           std::vector<std::string>* resumed) {
   std::map<std::string, int> started;
+  std::set<std::string> done;  // comm's "goal G seq S: DONE"
+  std::string last, interrupted;
+  bool arm_restarted = false;
   for (const std::string& line : launcher_lines) {
-    if (line.find("[arm ") == std::string::npos) continue;
+    if (line.find("process arm crashed") != std::string::npos) {
+      interrupted = !last.empty() && done.count(last) == 0 ? last : "";
+      arm_restarted = true;
+      continue;
+    }
     const auto at = line.find(" goal ");
-    const auto colon = at == std::string::npos ? at : line.find(": ", at);
+    if (at == std::string::npos) continue;
+    if (line.find("[comm ") != std::string::npos) {
+      const auto seq = line.find(" seq ", at + 6);
+      if (seq != std::string::npos && line.find(": DONE", seq) != std::string::npos)
+        done.insert(line.substr(at + 6, seq - at - 6));
+      continue;
+    }
+    if (line.find("[arm ") == std::string::npos) continue;
+    const auto colon = line.find(": ", at);
     if (colon == std::string::npos || line.find(" move ", colon) == std::string::npos) continue;
-    ++started[line.substr(at + 6, colon - at - 6)];
+    const std::string goal = line.substr(at + 6, colon - at - 6);
+    if (arm_restarted) {  // the restarted arm's first move
+      arm_restarted = false;
+      if (goal == interrupted) {
+        if (resumed != nullptr) resumed->push_back(goal);
+        continue;
+      }
+    }
+    ++started[goal];
+    last = goal;
   }
   return started;
+}
+
+void expect_clean_exit(const Processes& p, const std::string& name, const std::string& what) {
+  bool seen = false;
+  for (const auto& e : p.exits()) {
+    if (e.name != name) continue;
+    seen = true;
+    EXPECT_EQ(e.code, 0) << name << " exited with status " << e.code
+                         << ": a process of the run failed" << (what.empty() ? "" : " ") << what;
+  }
+  EXPECT_TRUE(seen) << name << " has not exited";
+}
+
+size_t expect_each_goal_once(const Processes& p, const std::string& launcher, size_t at_least) {
+  std::vector<std::string> resumed;
+  const std::map<std::string, int> started = arm_goal_starts(p.lines(launcher), &resumed);
+  std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
+  for (const std::string& goal : resumed)
+    std::fprintf(stderr, "goal %s: the restarted arm finished the move the killed one was on\n",
+                 goal.c_str());
+  EXPECT_GE(started.size(), at_least) << "the arm was hardly sent anything";
+  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
+  return started.size();
+}
+
+double slowest_restart_s(const std::map<std::string, double>& restart_s_of) {
+  double slowest = 0.0;
+  for (const auto& [name, s] : restart_s_of) slowest = std::max(slowest, s);
+  return slowest;
+}
+
+void expect_log_gaps_within(const std::string& log_path,
+                            const std::vector<std::pair<std::string, double>>& bounds,
+                            int min_messages) {
+  for (const auto& [channel, bound_s] : bounds) {
+    const ChannelGap g = longest_gap_in_log(log_path, channel);
+    std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",
+                 g.count, channel.c_str(), g.longest_s, g.at_s, bound_s);
+    EXPECT_GE(g.count, min_messages) << channel;
+    EXPECT_LT(g.longest_s, bound_s) << channel;
+  }
 }
 
 std::string bin(const std::string& name) {
