@@ -12,6 +12,17 @@ namespace {
 bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
 }  // namespace
 
+double first_contact(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
+                     const Eigen::Vector2d& centre, double reach_mm) {
+  // |p0 + u d - c|^2 = R^2: a u^2 + 2 b u + q = 0, the smaller root.
+  const Eigen::Vector2d d = p1 - p0, f = p0 - centre;
+  const double a = d.squaredNorm(), b = f.dot(d), q = f.squaredNorm() - reach_mm * reach_mm;
+  if (q <= 0.0 || a <= 1e-18) return 0.0;  // inside already (or no motion)
+  const double disc = b * b - a * q;
+  if (disc < 0.0) return 1.0;
+  return std::clamp((-b - std::sqrt(disc)) / a, 0.0, 1.0);
+}
+
 BallKalmanFilter::BallKalmanFilter(const BallKalmanParams& params) : params_(params) {
   if (!std::isfinite(params.acceleration_mm_s2) ||
       !finite_non_negative(params.accel_sigma_x_mm_s2) ||
@@ -99,6 +110,7 @@ void BallKalmanFilter::predict(double dt_s) {
     const int steps = std::max(1, static_cast<int>(std::ceil(t / 0.002)));
     const double h = t / steps;
     for (int k = 0; k < steps; ++k) {
+      const Eigen::Vector2d p0 = x_.head<2>();
       x_(0) += x_(2) * h;
       x_(1) += x_(3) * h + 0.5 * a * h * h;
       x_(3) += a * h;
@@ -106,7 +118,12 @@ void BallKalmanFilter::predict(double dt_s) {
         const Eigen::Vector2d d = x_.head<2>() - c;
         const double dist = d.norm();
         if (dist >= peg_reach_mm_ || dist <= 1e-9) continue;
-        const Eigen::Vector2d n = d / dist;
+        // The normal where the ball met the peg (on the step's chord), not
+        // where the step left it inside: 2 mm deep at 1 m/s turns a
+        // glancing contact's normal by several degrees.
+        const double u = first_contact(p0, x_.head<2>(), c, peg_reach_mm_);
+        const Eigen::Vector2d contact = p0 + u * (x_.head<2>() - p0);
+        const Eigen::Vector2d n = (contact - c).normalized();
         const double vn = x_.tail<2>().dot(n);
         if (vn >= 0.0) continue;
         const Eigen::Matrix2d m =
@@ -116,7 +133,7 @@ void BallKalmanFilter::predict(double dt_s) {
         bounce_q.bottomRightCorner<2, 2>() +=
             bounce_velocity_covariance(v_in, n, position_cov, t - (k + 1) * h);
         x_.tail<2>() = m * x_.tail<2>();
-        x_.head<2>() = c + n * peg_reach_mm_;
+        x_.head<2>() = c + n * peg_reach_mm_ + x_.tail<2>() * ((1.0 - u) * h);
         reflect = m * reflect;
         ++peg_bounces_;
       }

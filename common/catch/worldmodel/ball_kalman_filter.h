@@ -95,6 +95,13 @@ struct KalmanUpdateResult {
   Eigen::Vector2d innovation = Eigen::Vector2d::Zero();  // z - H x, mm
 };
 
+// Where on the segment p0 -> p1 (mm) a ball's centre first comes within
+// reach_mm of `centre`, as the fraction u in [0, 1] (0 when p0 is within
+// it already, 1 when the segment never is). Used by the filter's and the
+// exit predictor's peg bounces.
+double first_contact(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1,
+                     const Eigen::Vector2d& centre, double reach_mm);
+
 class BallKalmanFilter {
  public:
   using State = Eigen::Matrix<double, 4, 1>;  // x, y (mm), vx, vy (mm/s), B

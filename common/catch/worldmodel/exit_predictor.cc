@@ -1,5 +1,7 @@
 #include "common/catch/worldmodel/exit_predictor.h"
 
+#include "common/catch/worldmodel/ball_kalman_filter.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -75,18 +77,23 @@ RolledExit roll_past_pegs(const BoardSpec& board, const std::vector<Eigen::Vecto
       out.velocity = v;
       return out;
     }
+    const Eigen::Vector2d p0 = p;
     p = next;
     for (const auto& c : pegs) {
       const Eigen::Vector2d d = p - c;
       const double dist = d.norm();
       if (dist >= reach || dist <= 1e-9) continue;
-      const Eigen::Vector2d n = d / dist;
+      // The normal at the contact on the step's chord (see BallKalmanFilter).
+      const double u = first_contact(p0, p, c, reach);
+      const Eigen::Vector2d n = (p0 + u * (p - p0) - c).normalized();
       const double vn = v.dot(n);
       if (vn < 0.0) {
         v -= (1.0 + restitution) * vn * n;
         ++out.bounces;
+        p = c + n * reach + v * ((1.0 - u) * kStepS);
+      } else {
+        p = c + (d / dist) * reach;
       }
-      p = c + n * reach;
     }
     if (p.x() < r && v.x() < 0.0) {
       p.x() = r;
