@@ -73,17 +73,10 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
   ASSERT_EQ(restart_s_of.size(), victims.size()) << "not every process came back";
 
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(70))) << "the run did not end";
-  for (const auto& e : p.exits()) {
-    if (e.name == "launch") {
-      EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
-    }
-  }
+  expect_clean_exit(p, "launch");
 
   // No goal executed twice ("[arm ...] seq 14 goal 14: cartesian move to ...").
-  const std::map<std::string, int> started = arm_goal_starts(p.lines("launch"));
-  std::fprintf(stderr, "the arm set off on %zu goals\n", started.size());
-  EXPECT_GE(started.size(), 6u) << "the arm was hardly sent anything";
-  for (const auto& [goal, times] : started) EXPECT_EQ(times, 1) << "goal " << goal;
+  expect_each_goal_once(p, "launch", 6);
 
   const nlohmann::json s = read_summary(summary);
   std::fprintf(stderr, "summary after the monitor's restart: saves %d, escapes %d\n",
@@ -92,17 +85,10 @@ TEST(ShepherdFaults, EachProcessKilledMidRunIsRestartedAndNoGoalRunsTwice) {
 
   // Holes in the log: no longer than the slowest restart in the chain and a
   // second (objects, 30 Hz), the arm's restart and a second (its state, 100 Hz).
-  double slowest_s = 0.0;
-  for (const auto& [name, seconds_] : restart_s_of) slowest_s = std::max(slowest_s, seconds_);
-  const std::vector<std::pair<const char*, double>> bounds = {
-      {channels::kObjects, slowest_s + 1.0}, {channels::kArmState, restart_s_of.at("arm") + 1.0}};
-  for (const auto& [channel, bound_s] : bounds) {
-    const ChannelGap g = longest_gap_in_log(log_path, channel);
-    std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s at %.2f s (bound %.2f s)\n",
-                 g.count, channel, g.longest_s, g.at_s, bound_s);
-    EXPECT_GT(g.count, 600) << channel;
-    EXPECT_LT(g.longest_s, bound_s) << channel;
-  }
+  expect_log_gaps_within(log_path,
+                         {{channels::kObjects, slowest_restart_s(restart_s_of) + 1.0},
+                          {channels::kArmState, restart_s_of.at("arm") + 1.0}},
+                         601);
   fs::remove_all(dir);
 }
 
@@ -129,11 +115,7 @@ TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
   // comm's deadline) has cost two sheep in one run of four and none in the
   // others.
   EXPECT_GE(s["arm_commands"].get<int>(), 5) << "the arm stopped being commanded";
-  for (const auto& e : p.exits()) {
-    if (e.name == "launch") {
-      EXPECT_EQ(e.code, 0) << "a process failed under packet loss";
-    }
-  }
+  expect_clean_exit(p, "launch", "under packet loss");
   fs::remove_all(dir);
 }
 

@@ -98,11 +98,7 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
   ASSERT_TRUE(wait_until([&] { return p.exited("launch"); }, seconds(150)))
       << "the run did not end";
   bus.stop();
-  for (const auto& e : p.exits()) {
-    if (e.name == "launch") {
-      EXPECT_EQ(e.code, 0) << "the launcher reported a failure";
-    }
-  }
+  expect_clean_exit(p, "launch");
   {
     std::lock_guard<std::mutex> lock(heard.mutex);
     ASSERT_FALSE(heard.verdicts.empty()) << "no verdict";
@@ -115,13 +111,8 @@ TEST(SphereFaults, EachProcessKilledMidRunIsRestartedAndTheApproachIsCaptured) {
   // restart (< 1 s, above) and the half-second window that was in flight,
   // with a second of slack for the new process to register and find its
   // first complete window.
-  for (const char* channel : {sphere::channels::kEstimate, sphere::channels::kGuidance}) {
-    const ChannelGap g = longest_gap_in_log(log_path, channel);
-    std::fprintf(stderr, "log: %d messages on %s, longest gap %.2f s\n", g.count, channel,
-                 g.longest_s);
-    EXPECT_GE(g.count, 40) << channel;
-    EXPECT_LT(g.longest_s, 2.5) << channel;
-  }
+  expect_log_gaps_within(log_path,
+                         {{sphere::channels::kEstimate, 2.5}, {sphere::channels::kGuidance, 2.5}}, 40);
   fs::remove_all(fs::path(log_path).parent_path());
 }
 
