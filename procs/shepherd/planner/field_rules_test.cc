@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +24,18 @@ TEST(FieldRulesTest, TimeToBoundaryFromPositionAndVelocity) {
   EXPECT_NEAR(rules.time_to_boundary(sheep(1, 600, 814, 10, 10)), 10.0, 1e-12);
   EXPECT_TRUE(std::isinf(rules.time_to_boundary(sheep(1, 600, 400, 0, 0))));
   EXPECT_EQ(rules.time_to_boundary(sheep(1, -5, 400, 10, 0)), 0.0);
+}
+
+// predict_bounces: sheep 1 walks down to the bottom edge (30 s on its
+// straight line) and sheep 2 comes up at it head-on from just above that edge
+// (89 s to the top edge). They meet nose to nose within 3 s: sheep 2 is sent
+// back down and leaves first, sheep 1 goes up and leaves last.
+TEST(FieldRulesTest, WithPredictedBouncesTheOrderFollowsTheBouncedExits) {
+  const std::vector<Sheep> herd{sheep(1, 300, 300, 0, -10), sheep(2, 300, 25, 0, 10)};
+  PlannerConfig config;
+  EXPECT_EQ(FieldRules{config}.candidates_by_urgency(herd), (std::vector<int>{0, 1}));
+  config.predict_bounces = true;
+  EXPECT_EQ(FieldRules{config}.candidates_by_urgency(herd), (std::vector<int>{1, 0}));
 }
 
 TEST(FieldRulesTest, HeadingToCentreWithinTheConfiguredAngle) {
