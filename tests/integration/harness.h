@@ -95,23 +95,19 @@ class PacketLoss {
 
 // How many times the arm set off on each goal id, from the arm's lines in the
 // launcher's output ("[arm ...] seq 14 goal 14: cartesian move to ..."): a
-// fault test's "no goal runs twice". One start is not counted: the restarted
-// arm's first, when it is of the goal the killed arm was moving on (set off
-// on last, no DONE from comm before "process arm crashed"). Within its max
-// command age a restarted arm takes comm's poll of that command as new (its
-// ledger died with it) and finishes the interrupted move from where the arm
-// stopped; that is the move completed once, not run twice. Such goals are
-// added to `resumed` when given.
-std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines,
-                                           std::vector<std::string>* resumed = nullptr);
+// fault test's "no goal runs twice". Every start counts, a restarted arm's
+// too: a restarted arm refuses the command the killed one was executing
+// (procs/shared/arm CommandLedger), so it never sets off on it again.
+std::map<std::string, int> arm_goal_starts(const std::vector<std::string>& launcher_lines);
 
 // The fault tests' shared checks (gtest EXPECTs; each prints what it saw).
 //
 // The process started as `name` (the launcher) has exited with status 0: no
 // process of the run failed. `what` says where (e.g. "under packet loss").
 void expect_clean_exit(const Processes& p, const std::string& name, const std::string& what = "");
-// The arm set off on every goal once (arm_goal_starts over the launcher's
-// lines) and on at least `at_least` goals. Returns how many goals it set off on.
+// The arm set off on every goal at most once (arm_goal_starts over the
+// launcher's lines, restarts included) and on at least `at_least` goals. Returns how many goals it
+// set off on.
 size_t expect_each_goal_once(const Processes& p, const std::string& launcher, size_t at_least);
 // The slowest of kill_each_in_turn's restarts (s); 0 when none.
 double slowest_restart_s(const std::map<std::string, double>& restart_s_of);

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <iostream>
 #include <limits>
 #include <mutex>
@@ -399,6 +400,40 @@ TEST_F(ArmProcessTest, SilentCommStopsTheMotion) {
       << ack_for(51, arm_ack_t::STATUS_FAILED)->reason;
   ASSERT_TRUE(wait_until([&] { return at_rest(); }, 3s));
   EXPECT_FALSE(ack_for(51, arm_ack_t::STATUS_DONE).has_value());
+}
+
+// The arm is killed (SIGKILL) while it executes a command and started again
+// (a deputy's restart); comm keeps polling the command, same seq and first
+// send time. The restarted arm cannot know whether its run before executed
+// it (its ledger died with it), so it answers FAILED and sends the servo no
+// trajectory: the goal is never executed twice (issue 18 item 4). A command
+// first sent after the restart is executed.
+TEST_F(ArmProcessTest, ARestartedArmDoesNotExecuteTheKilledArmsCommandAgain) {
+  arm_cmd_t cmd = command_at(61, 1100.0, 800.0, arm_goal_t::PLANE_ELEVATION);
+  send_and_poll(cmd);
+  ASSERT_TRUE(wait_until([&] { return ack_for(61, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
+  procs_.signal("arm", SIGKILL);
+  ASSERT_TRUE(wait_until([&] { return procs_.exited("arm"); }, 5s));
+  const int64_t trajectories = locked([&] { return seen_.trajectories; });
+  const int64_t states = locked([&] { return seen_.states; });
+  procs_.start("arm2", ephor::testing::bin("ephor-arm"), {"--no-mlock"});
+  ASSERT_TRUE(wait_until([&] { return locked([&] { return seen_.states > states + 10; }); }, 20s))
+      << "no ARM_STATE from the restarted arm";
+  ASSERT_TRUE(wait_until([&] { return ack_for(61, arm_ack_t::STATUS_FAILED).has_value(); }, 5s));
+  EXPECT_NE(ack_for(61, arm_ack_t::STATUS_FAILED)->reason.find("before this arm started"),
+            std::string::npos)
+      << ack_for(61, arm_ack_t::STATUS_FAILED)->reason;
+  locked([&] {
+    EXPECT_EQ(seen_.state->executing_seq, 0) << "the restarted arm holds no command";
+    return 0;
+  });
+  stop_polling();
+  EXPECT_EQ(locked([&] { return seen_.trajectories; }), trajectories)
+      << "the restarted arm moved on the killed arm's command";
+  EXPECT_FALSE(ack_for(61, arm_ack_t::STATUS_DONE).has_value());
+  // comm's next goal, first sent after the restart, is executed.
+  send_and_poll(command_at(62, 1000.0, 700.0, arm_goal_t::PLANE_ELEVATION));
+  EXPECT_TRUE(wait_until([&] { return ack_for(62, arm_ack_t::STATUS_ACCEPTED).has_value(); }, 5s));
 }
 
 }  // namespace

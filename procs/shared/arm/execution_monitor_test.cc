@@ -2,8 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include "procs/shared/arm/command_ledger.h"
-
 namespace ephor::arm {
 namespace {
 
@@ -85,24 +83,6 @@ TEST(ExecutionMonitorTest, PreemptedMotionFailsWithTheNewSeq) {
   ASSERT_TRUE(ack);
   EXPECT_EQ(ack->seq, 4);
   EXPECT_EQ(ack->reason, "replaced by command seq 5");
-}
-
-TEST(CommandLedgerTest, RemembersTheNewestAckPerCommandAndForgetsTheOldest) {
-  CommandLedger ledger(2);
-  ArmAck a;
-  a.seq = 1;
-  a.status = AckStatus::kAccepted;
-  ledger.record(1, 100, a);
-  a.status = AckStatus::kDone;
-  ledger.record(1, 100, a);
-  ASSERT_TRUE(ledger.find(1, 100));
-  EXPECT_EQ(ledger.find(1, 100)->status, AckStatus::kDone);
-  EXPECT_FALSE(ledger.find(1, 999));  // same seq from a restarted sender: a new command
-  ledger.record(2, 200, a);
-  ledger.record(3, 300, a);
-  EXPECT_FALSE(ledger.find(1, 100));
-  EXPECT_TRUE(ledger.find(3, 300));
-  EXPECT_EQ(ledger.size(), 2u);
 }
 
 }  // namespace

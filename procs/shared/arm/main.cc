@@ -16,7 +16,9 @@
 //   tasks       state (periodic 10 ms), command (triggered by ARM_CMD: validate, plan, send)
 //
 // Each command (seq, first-sent utime) is executed at most once: a repeat gets
-// the newest ack it was given again. A newer valid command replaces a motion
+// the newest ack it was given again, and a command first sent before this
+// run of the arm started (a restart) is answered FAILED, never executed: the
+// run before may have executed it (CommandLedger). A newer valid command replaces a motion
 // in progress (the old one is acknowledged FAILED "replaced by command seq N").
 //
 // Safety (SafetyGate): an ESTOP stops the arm at once (controlled_stop, sent
@@ -104,6 +106,7 @@ class ArmProcess {
         validator_(calibration, cell, {camera.width_px, camera.height_px, options.max_speed_mm_s}),
         calibration_(std::move(calibration)),
         planner_(cell, planner_config(cell, options)),
+        ledger_(ephor::wall_us()),
         gate_({static_cast<int64_t>(options.comm_timeout_ms * 1e3)}),
         next_trajectory_seq_(ephor::wall_us()) {}
 
@@ -238,8 +241,11 @@ class ArmProcess {
   }
 
   void log_summary() const {
-    spdlog::info("commands: {} accepted, {} rejected, {} repeats answered, {} foreign ignored",
-                 accepted_.load(), rejected_.load(), repeats_.load(), foreign_.load());
+    spdlog::info(
+        "commands: {} accepted, {} rejected, {} sent before this arm started (failed, not "
+        "executed), {} repeats answered, {} foreign ignored",
+        accepted_.load(), rejected_.load(), from_before_start_.load(), repeats_.load(),
+        foreign_.load());
   }
 
  private:
@@ -286,6 +292,18 @@ class ArmProcess {
     publish_ack(ack, m.utime);
   }
 
+  // Caller holds mutex_. FAILED, not REJECTED: the command may have been
+  // executed (by the arm's run before a restart), which REJECTED would deny.
+  void fail_unknown(const ephor::arm_cmd_t& m, std::string reason) {
+    ArmAck ack;
+    ack.seq = m.seq;
+    ack.goal_id = m.goal_id;
+    ack.status = AckStatus::kFailed;
+    ack.reason = std::move(reason);
+    ++from_before_start_;
+    publish_ack(ack, m.utime);
+  }
+
   void handle_command(const ephor::arm_cmd_t& m) {
     Joints start;
     {
@@ -299,6 +317,9 @@ class ArmProcess {
       const int64_t age_us = ephor::wall_us() - m.utime;
       const auto max_age_us = static_cast<int64_t>(options_.max_age_ms * 1000.0);
       if (m.utime <= 0) return reject(m, "command has no send time (utime <= 0)");
+      // Sent before this run began: a restarted arm cannot know whether the
+      // run before executed it (CommandLedger), so it never does.
+      if (auto why = ledger_.refusal(m.seq, m.utime)) return fail_unknown(m, std::move(*why));
       if (age_us > max_age_us)
         return reject(m, fmt::format("stale: sent {:.0f} ms ago (max age {:.0f} ms)", age_us / 1e3,
                                      options_.max_age_ms));
@@ -416,7 +437,8 @@ class ArmProcess {
   int64_t executing_cmd_utime_ = 0;
   int64_t next_trajectory_seq_;
 
-  std::atomic<int64_t> accepted_{0}, rejected_{0}, repeats_{0}, foreign_{0}, bad_servo_{0};
+  std::atomic<int64_t> accepted_{0}, rejected_{0}, repeats_{0}, foreign_{0}, bad_servo_{0},
+      from_before_start_{0};
 };
 
 }  // namespace
