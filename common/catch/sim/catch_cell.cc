@@ -64,11 +64,21 @@ ArmView CatchCell::arm_view(const arm::Joints& q) const {
 }
 
 double CatchCell::move_time_from_ready_s(const Eigen::Vector3d& target_w_mm) const {
-  const auto plan = planner_.plan(
-      ready_q_, arm::tool_down_pose(cell_, target_w_mm.x(), target_w_mm.y(), target_w_mm.z(), 0.0),
-      kArmSpeedCapMmS);
+  const auto plan = plan_move(ready_q_, target_w_mm);
   if (!plan.ok) return std::numeric_limits<double>::infinity();
   return plan.trajectory.duration_s();
+}
+
+arm::MotionPlan CatchCell::plan_move(const arm::Joints& from,
+                                     const Eigen::Vector3d& target_w_mm) const {
+  if (!from.allFinite() || !target_w_mm.allFinite()) {
+    arm::MotionPlan refused;
+    refused.reason = "the arm's joints or the cup goal are not finite";
+    return refused;
+  }
+  return planner_.plan(
+      from, arm::tool_down_pose(cell_, target_w_mm.x(), target_w_mm.y(), target_w_mm.z(), 0.0),
+      kArmSpeedCapMmS);
 }
 
 }  // namespace ephor::catching

@@ -43,6 +43,13 @@ class CatchCell {
   // `target_w_mm` (tool down) as ephor-arm would plan it (joint speed and
   // acceleration limits, no tool-speed cap); infinity when unreachable.
   double move_time_from_ready_s(const Eigen::Vector3d& target_w_mm) const;
+  // The motion ephor-arm plans for a cup goal (arm_goal_t KIND_POSE, tool
+  // down, theta 0) with the arm at joints `from`: the IK solution nearest
+  // `from`, the straight line or OMPL, timed at the joint limits (the same
+  // MotionPlanner and configuration as the arm server in deploy/catch.pbtxt).
+  // Like ephor-arm it plans from rest at `from` whatever the arm's velocity;
+  // the servo then catches up (ArmServo). !ok with the reason when refused.
+  arm::MotionPlan plan_move(const arm::Joints& from, const Eigen::Vector3d& target_w_mm) const;
 
  private:
   geometry::Workcell cell_;

@@ -190,6 +190,32 @@ std::optional<Eigen::Vector2d> CatchScenario::project(const Eigen::Vector3d& p_b
                          intrinsics.fy * p.y() / p.z() + intrinsics.cy);
 }
 
+std::vector<Eigen::Vector2d> CatchScenario::measured_pegs() const {
+  std::mt19937_64 rng(seed ^ 0x9e65ULL);
+  std::normal_distribution<double> noise(0.0, kSurveyNoiseMm);
+  std::vector<Eigen::Vector2d> out;
+  for (const Peg& p : pegs) {
+    const double x = p.x_mm + noise(rng);  // x first: the order of the draws is the seed's
+    const double y = p.y_mm + noise(rng);
+    out.emplace_back(x, y);
+  }
+  return out;
+}
+
+CatchScenario::TouchedPoints CatchScenario::touched_points() const {
+  std::mt19937_64 rng(seed ^ 0x5eedULL);
+  std::normal_distribution<double> noise(0.0, kSurveyNoiseMm);
+  const Pose b2w = board_to_world();
+  TouchedPoints out;
+  out.board_mm = {Eigen::Vector2d(50.0, 50.0), Eigen::Vector2d(board.width_mm - 50.0, 50.0),
+                  Eigen::Vector2d(board.width_mm / 2.0, board.height_mm - 50.0)};
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d w = b2w * Eigen::Vector3d(out.board_mm[i].x(), out.board_mm[i].y(), 0.0);
+    for (int k = 0; k < 3; ++k) out.world_mm[i][k] = w[k] + noise(rng);
+  }
+  return out;
+}
+
 bool CatchScenario::corners_in_view(double margin_px) const {
   for (const double x : {0.0, board.width_mm}) {
     for (const double y : {0.0, board.height_mm}) {

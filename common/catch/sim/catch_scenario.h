@@ -17,6 +17,7 @@
 // edit its fields (remove the pegs, flatten the lighting) before handing it to
 // BoardWorld or BoardRenderer.
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -113,6 +114,19 @@ struct CatchScenario {
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& p_b_mm) const;
   // Whether all four board corners project at least margin_px inside the image.
   bool corners_in_view(double margin_px) const;
+
+  // The pegs as measured once when the board was set up (ephor-catch-sim's
+  // CATCH_PEGS): the true centres (B, mm) with kSurveyNoiseMm of Gaussian
+  // noise per axis, a function of the seed only.
+  std::vector<Eigen::Vector2d> measured_pegs() const;
+  // The three board points the arm's tool touched (CATCH_SURVEY; paper 000,
+  // section 3): near the top corners and the bottom centre, in B (z = 0) and
+  // as measured in W with kSurveyNoiseMm of noise per axis (seed only).
+  struct TouchedPoints {
+    std::array<Eigen::Vector2d, 3> board_mm;
+    std::array<Eigen::Vector3d, 3> world_mm;
+  };
+  TouchedPoints touched_points() const;
 };
 
 // The constraints the draw enforces (exposed for tests).
@@ -125,5 +139,6 @@ constexpr double kPegFreeBottomMm = 60.0;       // the last stretch before the e
 constexpr double kPegGapOverBallMm = 10.0;      // pegs' gaps exceed the ball diameter by this
 constexpr double kPegCircleClearanceMm = 15.0;  // between a peg (or its shadow) and a circle
 constexpr double kCornerMarginPx = 20.0;
+constexpr double kSurveyNoiseMm = 0.5;  // the pegs' and the touched points' measurement, 1 sigma
 
 }  // namespace ephor::catching

@@ -257,16 +257,10 @@ int main(int argc, char** argv) {
     // The touched points: three board points, measured with 0.5 mm noise.
     catch_survey_t survey{};
     {
-      std::mt19937_64 rng(seed ^ 0x5eedULL);
-      std::normal_distribution<double> noise(0.0, 0.5);
-      const Pose b2w = p.scenario.board_to_world();
-      const double pts[3][2] = {{50.0, 50.0},
-                                {board.width_mm - 50.0, 50.0},
-                                {board.width_mm / 2.0, board.height_mm - 50.0}};
+      const CatchScenario::TouchedPoints touched = p.scenario.touched_points();
       for (int i = 0; i < 3; ++i) {
-        const Eigen::Vector3d w = b2w * Eigen::Vector3d(pts[i][0], pts[i][1], 0.0);
-        for (int k = 0; k < 2; ++k) survey.board_mm[i][k] = pts[i][k];
-        for (int k = 0; k < 3; ++k) survey.world_mm[i][k] = w[k] + noise(rng);
+        for (int k = 0; k < 2; ++k) survey.board_mm[i][k] = touched.board_mm[i][k];
+        for (int k = 0; k < 3; ++k) survey.world_mm[i][k] = touched.world_mm[i][k];
       }
     }
 
@@ -274,13 +268,11 @@ int main(int argc, char** argv) {
     // 0.5 mm of noise (as the survey's touches), published with the survey.
     catch_pegs_t pegs_msg{};
     {
-      std::mt19937_64 rng(seed ^ 0x9e65ULL);
-      std::normal_distribution<double> noise(0.0, 0.5);
       pegs_msg.peg_diameter_mm = p.scenario.peg_diameter_mm;
       pegs_msg.num_pegs = static_cast<int32_t>(p.scenario.pegs.size());
-      for (const Peg& peg : p.scenario.pegs) {
-        pegs_msg.x_mm.push_back(peg.x_mm + noise(rng));
-        pegs_msg.y_mm.push_back(peg.y_mm + noise(rng));
+      for (const Eigen::Vector2d& peg : p.scenario.measured_pegs()) {
+        pegs_msg.x_mm.push_back(peg.x());
+        pegs_msg.y_mm.push_back(peg.y());
       }
     }
 
