@@ -42,6 +42,19 @@ CatchPlannerParams CatchPlannerParams::for_board(const BoardSpec& board,
   return p;
 }
 
+CatchPlannerParams PrimTuning::apply(CatchPlannerParams p) const {
+  p.freeze_before_catch_s = freeze_ms / 1e3;
+  p.hold_after_catch_us = static_cast<int64_t>(hold_ms * 1e3);
+  p.max_sigma_mm = 150.0;
+  p.commit_ahead_s = commit_ahead_s;
+  p.min_interval_us = static_cast<int64_t>(reaim_ms * 1e3);
+  p.resend_min_mm = resend_mm;
+  p.resend_sigma_fraction = 0.5;
+  p.refresh_min_mm = std::min(5.0, resend_mm);
+  p.refresh_period_us = 200'000;
+  return p;
+}
+
 CatchPlanner::CatchPlanner(const BoardSpec& board, const BoardPlacement& placement,
                            const CatchPlannerParams& params)
     : params_(params), ready_w_mm_(catching::ready_point_w_mm(board, placement)) {

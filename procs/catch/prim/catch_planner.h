@@ -72,6 +72,30 @@ struct CatchPlannerParams {
   static CatchPlannerParams for_board(const BoardSpec& board, const BoardPlacement& placement);
 };
 
+// ephor-catch-prim's flags (--commit-ahead-s, --reaim-ms, --hold-ms,
+// --resend-mm, --freeze-ms) and their defaults, as one value the process and
+// the closed-loop harness (procs/catch/bench) share.
+//
+// Each goal makes ephor-arm plan a new motion from wherever the arm is, and
+// the first predictions of a ball are poor (its velocity is not yet known,
+// pegs lie ahead): chase a prediction once it is within 150 mm (1 sigma) and
+// at most commit_ahead_s ahead, re-aim at most every reaim_ms (the arm plans
+// each new goal from rest, so every re-aim costs it time), for a change of
+// at least resend_mm or half a sigma; no re-aim within freeze_ms of the
+// catch. After a ball the cup goes back to the ready point hold_ms after the
+// predicted catch: soon, because the move back takes up to a second and the
+// arm moving in view while the next ball is released hides that ball from
+// the vision (measured: 4 of 10 balls of seed 2 never tracked with 500 ms).
+struct PrimTuning {
+  double commit_ahead_s = 1.0;
+  double reaim_ms = 250.0;
+  double hold_ms = 150.0;
+  double resend_mm = 15.0;
+  double freeze_ms = 150.0;
+  // The parameters for `p` (for_board's box) with these settings.
+  CatchPlannerParams apply(CatchPlannerParams p) const;
+};
+
 enum class GoalReason {
   kReady,        // the first goal: wait at the ready point
   kCatch,        // the first goal for a ball's prediction

@@ -42,35 +42,6 @@
 #include "ephor/catch_world_t.hpp"
 #include "procs/catch/prim/catch_planner.h"
 
-namespace {
-
-// Each goal makes ephor-arm plan a new motion from wherever the arm is, and
-// the first predictions of a ball are poor (its velocity is not yet known,
-// pegs lie ahead): chase a prediction once it is within 40 mm (1 sigma), and
-// re-aim at most every 250 ms (the arm plans each new goal from rest, so
-// every re-aim costs it time), for a change of at least 15 mm or half a sigma.
-//
-// After a ball the cup goes back to the ready point hold_ms after the
-// predicted catch: soon, because the move back takes up to a second and the
-// arm moving in view while the next ball is released hides that ball from
-// the vision (measured: 4 of 10 balls of seed 2 never tracked with 500 ms).
-ephor::catching::CatchPlannerParams tuned(ephor::catching::CatchPlannerParams p,
-                                          double commit_ahead_s, double reaim_ms, double hold_ms,
-                                          double resend_mm, double freeze_ms) {
-  p.freeze_before_catch_s = freeze_ms / 1e3;
-  p.hold_after_catch_us = static_cast<int64_t>(hold_ms * 1e3);
-  p.max_sigma_mm = 150.0;
-  p.commit_ahead_s = commit_ahead_s;
-  p.min_interval_us = static_cast<int64_t>(reaim_ms * 1e3);
-  p.resend_min_mm = resend_mm;
-  p.resend_sigma_fraction = 0.5;
-  p.refresh_min_mm = std::min(5.0, resend_mm);
-  p.refresh_period_us = 200'000;
-  return p;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace ephor;
   using namespace ephor::catching;
@@ -79,8 +50,10 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "prim");
   std::string board_path = "deploy/catch/board.pbtxt";
-  double duration_s = 0.0, commit_ahead_s = 1.0, reaim_ms = 250.0, hold_ms = 150.0,
-         resend_mm = 15.0, freeze_ms = 150.0;
+  double duration_s = 0.0;
+  PrimTuning tuning;  // the defaults: see PrimTuning
+  double &commit_ahead_s = tuning.commit_ahead_s, &reaim_ms = tuning.reaim_ms,
+         &hold_ms = tuning.hold_ms, &resend_mm = tuning.resend_mm, &freeze_ms = tuning.freeze_ms;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_option(
          "--commit-ahead-s", commit_ahead_s,
@@ -131,8 +104,7 @@ int main(int argc, char** argv) {
       }
       if (!planner) {
         planner.emplace(board, *placement,
-                        tuned(CatchPlannerParams::for_board(board, *placement), commit_ahead_s,
-                              reaim_ms, hold_ms, resend_mm, freeze_ms));
+                        tuning.apply(CatchPlannerParams::for_board(board, *placement)));
         const auto& r = planner->ready_point_w_mm();
         spdlog::info("board surveyed; ready point ({:.0f}, {:.0f}, {:.0f}) mm", r.x(), r.y(),
                      r.z());
