@@ -190,6 +190,12 @@ const BallFrame& BallWorldModel::update(int64_t capture_utime,
       if (frame_.has_prediction) {
         frame_.exit_utime = capture_utime + to_utime(frame_.exit.time_to_exit_s);
         frame_.catch_utime = capture_utime + to_utime(frame_.exit.time_to_catch_s);
+        if (params_.spread.samples > 0) {
+          frame_.spread =
+              ExitSpread(predictor_, params_.spread).sample(filter_.state(), filter_.covariance());
+          frame_.has_spread = frame_.spread.ok;
+          frame_.cover_catch_utime = capture_utime + to_utime(frame_.spread.cover_time_to_catch_s);
+        }
         exit_frame_ = frame_;
       }
     }
@@ -203,6 +209,9 @@ const BallFrame& BallWorldModel::update(int64_t capture_utime,
       frame_.exit = exit_frame_.exit;
       frame_.exit_utime = exit_frame_.exit_utime;
       frame_.catch_utime = exit_frame_.catch_utime;
+      frame_.has_spread = exit_frame_.has_spread;
+      frame_.spread = exit_frame_.spread;
+      frame_.cover_catch_utime = exit_frame_.cover_catch_utime;
       break;
     case Phase::kTracking:
       frame_.status = rejected ? BallStatus::kRejected : BallStatus::kTracking;

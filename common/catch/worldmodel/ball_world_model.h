@@ -37,6 +37,7 @@
 #include "common/catch/worldmodel/ball_measurement_gate.h"
 #include "common/catch/worldmodel/board_ray.h"
 #include "common/catch/worldmodel/exit_predictor.h"
+#include "common/catch/worldmodel/exit_spread.h"
 
 namespace ephor::catching {
 
@@ -58,6 +59,10 @@ struct BallWorldModelParams {
   // are released at the top, and motion lower down with no ball tracked is
   // the arm moving in view. Infinity = anywhere.
   double acquire_max_y_mm = std::numeric_limits<double>::infinity();
+  // The spread of the exit (ExitSpread: states drawn from the filter's
+  // covariance and pegs from their survey error, each rolled past the pegs)
+  // with every prediction while tracking; spread.samples = 0: none.
+  ExitSpreadParams spread{0};
 };
 
 struct BallFrame {
@@ -86,6 +91,12 @@ struct BallFrame {
   ExitPrediction exit;
   int64_t exit_utime = 0;
   int64_t catch_utime = 0;
+
+  // The spread of the prediction (params.spread.samples > 0, with a
+  // prediction) and the absolute catch time of its cover.
+  bool has_spread = false;
+  ExitSpreadResult spread;
+  int64_t cover_catch_utime = 0;
 };
 
 class BallWorldModel {
@@ -113,6 +124,7 @@ class BallWorldModel {
   const BoardRay& ray() const { return ray_; }
   const BallMeasurementGate& gate() const { return gate_; }
   const BallKalmanFilter& filter() const { return filter_; }
+  const ExitPredictor& predictor() const { return predictor_; }
   int frames() const { return frames_; }
   int out_of_order() const { return out_of_order_; }
   int exits() const { return exits_; }

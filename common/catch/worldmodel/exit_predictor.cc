@@ -173,6 +173,8 @@ ExitPrediction ExitPredictor::predict(const Eigen::Vector4d& state,
       exit_vx = rolled.velocity.x();
       d = rolled.velocity.y();
       out.peg_bounces = rolled.bounces;
+    } else {
+      out.stalled_on_pegs = true;
     }
   }
   out.time_to_exit_s = tau;

@@ -58,6 +58,9 @@ struct ExitPrediction {
   Eigen::Matrix4d exit_covariance = Eigen::Matrix4d::Zero();
   int rail_reflections = 0;
   int peg_bounces = 0;  // with pegs known: bounces on the predicted path
+  // With pegs known: the roll did not reach the edge within its 3 s horizon
+  // (stuck on a peg or too slow); the peg-free exit is given then.
+  bool stalled_on_pegs = false;
 
   // The ballistic flight from the edge to the catch plane.
   Eigen::Vector3d catch_point_w_mm = Eigen::Vector3d::Zero();  // in the catch plane, W
@@ -96,6 +99,8 @@ class ExitPredictor {
   void set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double peg_radius_mm,
                 double restitution = 0.5);
   const std::vector<Eigen::Vector2d>& pegs() const { return pegs_; }
+  double peg_radius_mm() const { return peg_radius_mm_; }
+  double restitution() const { return restitution_; }
 
  private:
   BoardSpec board_;

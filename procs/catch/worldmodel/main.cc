@@ -82,6 +82,13 @@ catch_world_t to_message(const BallFrame& f, const catch_ball_t& ball) {
     m.exit_sigma_s = f.exit.sigma_exit_time_s;
     for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.exit.catch_point_w_mm[k];
     m.catch_utime = f.catch_utime;
+    if (f.has_spread) {
+      // With --spread-samples: the exit and catch point Prim aims at are the
+      // cover of the prediction's spread (ExitSpread), not the mean's.
+      m.exit_x_b_mm = f.spread.cover_exit_x_b_mm;
+      for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.spread.cover_point_w_mm[k];
+      m.catch_utime = f.cover_catch_utime;
+    }
   }
   return m;
 }
@@ -97,10 +104,17 @@ int main(int argc, char** argv) {
   std::string board_path = "deploy/catch/board.pbtxt", camera_path = "deploy/catch/camera.pbtxt";
   double duration_s = 0.0;
   bool no_pegs = false;
+  int spread_samples = 0;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_flag("--no-pegs", no_pegs,
                "predict the exit as if the board had no pegs (ignore CATCH_PEGS)");
   app.add_option("--camera", camera_path, "camera file (common/catch/camera.proto)");
+  app.add_option("--spread-samples", spread_samples,
+                 "publish as the exit and catch point the cover of the prediction's spread: "
+                 "this many states drawn from the filter's covariance (and pegs from their "
+                 "survey error) rolled past the pegs, the point within the cup's capture radius "
+                 "of the most (ExitSpread); 0 = the mean's prediction")
+      ->check(CLI::Range(0, 1000));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
@@ -183,6 +197,7 @@ int main(int argc, char** argv) {
         if (!board_to_camera || !placement) return;  // not initialised yet
         BallWorldModelParams params;
         params.acquire_max_y_mm = 150.0;  // balls are released 30 mm from the top
+        params.spread.samples = spread_samples;
         model.emplace(board, *placement, intrinsics, *board_to_camera, params);
         spdlog::info("initialised: tracking");
       }
