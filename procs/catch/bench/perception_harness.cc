@@ -26,7 +26,6 @@
 #include <functional>
 #include <iostream>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -196,14 +195,10 @@ int main(int argc, char** argv) {
     ExitPredictor oracle(board, scenario.placement, params.exit);
     if (!no_pegs) {
       // The pegs as ephor-catch-sim publishes them: 0.5 mm of noise, its seed.
-      std::mt19937_64 rng(seed ^ 0x9e65ULL);
-      std::normal_distribution<double> noise(0.0, 0.5);
-      std::vector<Eigen::Vector2d> pegs;
-      for (const Peg& p : scenario.pegs) {
-        const double x = p.x_mm + noise(rng);
-        const double y = p.y_mm + noise(rng);
-        pegs.emplace_back(exact_pegs ? p.x_mm : x, exact_pegs ? p.y_mm : y);
-      }
+      std::vector<Eigen::Vector2d> pegs = scenario.measured_pegs();
+      if (exact_pegs)
+        for (size_t i = 0; i < pegs.size(); ++i)
+          pegs[i] = Eigen::Vector2d(scenario.pegs[i].x_mm, scenario.pegs[i].y_mm);
       model.set_pegs(pegs, 0.5 * scenario.peg_diameter_mm);
       oracle.set_pegs(pegs, 0.5 * scenario.peg_diameter_mm);
     }
