@@ -27,6 +27,7 @@
 #include "ephor/task_jobs_t.hpp"
 #include "ephor/task_register_t.hpp"
 #include "procs/shared/scheduler/scheduler.h"
+#include "procs/shared/scheduler/task_messages.h"
 #include "procs/shared/scheduler/task_table.h"
 
 namespace {
@@ -175,27 +176,17 @@ int main(int argc, char** argv) {
     std::mutex mutex;
     bool publish_now = true;
     bus.subscribe<task_register_t>(channels::kTaskRegister, [&](const task_register_t& m) {
-      if (m.host != args.host) return;
-      Registration r{m.process, m.task, m.pid, m.tid, m.periodic != 0, m.period_us, m.deadline_us};
+      const auto r = registration_of(m, args.host);
+      if (!r) return;
       std::lock_guard<std::mutex> lock(mutex);
-      sched.on_register(r, mono_us());
+      sched.on_register(*r, mono_us());
       publish_now = true;  // a (re)started task should not wait a whole period for its assignment
     });
     bus.subscribe<task_jobs_t>(channels::kTaskJobs, [&](const task_jobs_t& m) {
-      if (m.host != args.host) return;
-      JobsReport r;
-      r.process = m.process;
-      r.task = m.task;
-      r.pid = m.pid;
-      r.tid = m.tid;
-      r.rt_granted = m.rt_granted;
-      r.rt_error = m.rt_error;
-      r.generation = m.generation;
-      for (const auto& j : m.jobs)
-        r.jobs.push_back(
-            {j.start_latency_us, j.exec_us, j.cpu_us, j.deadline_met != 0, j.skipped_releases});
+      const auto r = jobs_report_of(m, args.host);
+      if (!r) return;
       std::lock_guard<std::mutex> lock(mutex);
-      sched.on_jobs(r, mono_us());
+      sched.on_jobs(*r, mono_us());
     });
     bus.start();
     spdlog::info("scheduling {} task(s) of host '{}' on CPUs [{}], status every {} s, LCM {}",

@@ -33,28 +33,11 @@
 #include "common/time/clock.h"
 #include "ephor/sphere_estimate_t.hpp"
 #include "ephor/sphere_scan_line_t.hpp"
+#include "procs/sphere/locator/line_message.h"
 #include "procs/sphere/locator/window_assembler.h"
-
-namespace {
 
 using namespace ephor;
 using namespace ephor::sphere;
-
-LineMessage from_message(const sphere_scan_line_t& m) {
-  LineMessage l;
-  l.line = m.line;
-  l.window = m.window;
-  l.window_s = m.window_s;
-  l.last_in_window = m.last_in_window;
-  l.num_pulses = m.num_pulses;
-  l.t_s = m.t_s;
-  l.azimuth_rad = m.azimuth_rad;
-  l.elevation_rad = m.elevation_rad;
-  l.range_m = m.range_m;
-  return l;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   block_shutdown_signals();
@@ -103,7 +86,7 @@ int main(int argc, char** argv) {
       {
         std::lock_guard<std::mutex> lock(mutex);
         const int64_t restarts_before = assembler.restarts();
-        why = assembler.add(from_message(m));
+        why = assembler.add(line_message_of(m));
         if (assembler.restarts() != restarts_before) {
           spdlog::warn(
               "SPHERE_SCAN_LINE from {}: scan clock and line counter went back (line {} at {:.3f} "
