@@ -54,7 +54,12 @@ Simulator::Simulator(SimulatorConfig config)
   if (!std::isfinite(config_.servo_step_s) || config_.servo_step_s <= 0.0 ||
       config_.servo_step_s > 0.01)
     throw std::invalid_argument("sim config: servo_step_s must be in (0, 0.01] s");
-  world_.set_tool_tip(tool_tip_mm());
+  set_world_tool();
+}
+
+void Simulator::set_world_tool() {
+  const arm::ToolInField tool = arm::tool_in_field(config_.world.workcell, servo_.state().q);
+  world_.set_tool_tip(tool.tip_mm, tool.theta_rad);
 }
 
 Eigen::Vector3d Simulator::tool_tip_mm() const {
@@ -68,7 +73,7 @@ void Simulator::step(double dt_s) {
   const double h = dt_s / n;
   for (int i = 0; i < n; ++i) {
     servo_.step(h);
-    world_.set_tool_tip(tool_tip_mm());
+    set_world_tool();
     world_.step(h);
   }
 }

@@ -104,6 +104,9 @@ class Simulator {
   void reset(uint64_t seed) { world_.reset(seed); }
 
  private:
+  // Hands the world the tool's tip and orientation for the arm's joints now.
+  void set_world_tool();
+
   SimulatorConfig config_;
   arm::Puma560 puma_;
   World world_;

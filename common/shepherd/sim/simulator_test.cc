@@ -75,16 +75,17 @@ TEST(Simulator, LoweredArmOverASheepTurnsItAndHidesItsMark) {
   EXPECT_EQ(bright_pixels_near(img, gt.sheep[0].view.centre_px, 12.0), 0);
   EXPECT_EQ(sim.world().saves(), 0);
 
-  // Lowered into the object plane: touched, turned toward the centre.
+  // Lowered into the object plane: touched, turned the way the tool faces
+  // (theta 0, move_tool: +x of F, as the arm's forward kinematics say).
   ASSERT_TRUE(sim.follow(move_tool(sim, 2, 300.0, 250.0, cell.object_plane_z_mm, 2.0)));
   for (int i = 0; i < 30 && !sim.servo().trajectory_done; ++i) sim.step(0.1);
   EXPECT_EQ(sim.world().saves(), 1);
   const auto s = sim.world().sheep();
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s[0].id, id);
-  const double to_centre =
-      std::atan2(cell.centre_y_mm() - s[0].centre_mm.y(), cell.centre_x_mm() - s[0].centre_mm.x());
-  EXPECT_NEAR(std::remainder(s[0].body_angle_rad - to_centre, 2 * M_PI), 0.0, 0.01);
+  const double tool_theta = arm::tool_in_field(cell, sim.servo().q).theta_rad;
+  EXPECT_NEAR(tool_theta, 0.0, 1e-3);
+  EXPECT_NEAR(std::remainder(s[0].body_angle_rad - tool_theta, 2 * M_PI), 0.0, 0.01);
   gt = sim.render(img);
   EXPECT_FALSE(gt.sheep[0].view.visible);
 }

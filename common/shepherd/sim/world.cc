@@ -242,7 +242,9 @@ int32_t World::add_sheep(double x_mm, double y_mm, double heading_rad, double sp
   return create_sheep(x_mm, y_mm, heading_rad, speed_mm_s);
 }
 
-void World::set_tool_tip(const std::optional<Eigen::Vector3d>& tip_mm) {
+void World::set_tool_tip(const std::optional<Eigen::Vector3d>& tip_mm,
+                         std::optional<double> theta_rad) {
+  tool_theta_rad_ = theta_rad && std::isfinite(*theta_rad) ? theta_rad : std::nullopt;
   if (tip_mm && !tip_mm->allFinite()) {
     tool_tip_mm_.reset();
     return;
@@ -379,15 +381,17 @@ void World::check_touches() {
       touching = std::abs(along) <= hx && std::abs(across) <= hy;
     }
     if (touching) {
-      // Turned toward the centre; it keeps being turned while touched, but a
-      // touch counts as one save.
+      // Turned the way the tool faces (or toward the centre); it keeps being
+      // turned while touched, but a touch counts as one save.
       if (!s->touched) ++saves_;
       const b2Vec2 p = s->body->GetPosition();
-      const double to_centre =
-          std::atan2(w.centre_y_mm() - to_mm(p.y), w.centre_x_mm() - to_mm(p.x));
-      s->body->SetTransform(p, static_cast<float>(to_centre));
-      s->body->SetLinearVelocity(b2Vec2(to_units(s->drive_speed_mm_s * std::cos(to_centre)),
-                                        to_units(s->drive_speed_mm_s * std::sin(to_centre))));
+      const double heading =
+          config_.touch_turns_along_tool && tool_theta_rad_
+              ? *tool_theta_rad_
+              : std::atan2(w.centre_y_mm() - to_mm(p.y), w.centre_x_mm() - to_mm(p.x));
+      s->body->SetTransform(p, static_cast<float>(heading));
+      s->body->SetLinearVelocity(b2Vec2(to_units(s->drive_speed_mm_s * std::cos(heading)),
+                                        to_units(s->drive_speed_mm_s * std::sin(heading))));
       s->body->SetAngularVelocity(0.0f);
       s->turn_rate_rad_s = 0.0;
     }

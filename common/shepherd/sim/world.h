@@ -65,6 +65,11 @@ struct WorldConfig {
   // footprint.
   double touch_height_mm = 20.0;
   double touch_radius_mm = 15.0;
+  // A touched sheep is turned the way the manipulator faces (the tool's
+  // orientation theta, set_tool_tip): the paper's manipulator is "oriented to
+  // catch" the sheep and redirects it toward the centre. false, or while the
+  // orientation is unknown: straight at the field centre.
+  bool touch_turns_along_tool = true;
 
   // Switches for measuring what each part of the world costs the system
   // (issue 13; the planners' kinematic stand-in has neither): sheep that pass
@@ -102,9 +107,11 @@ class World {
   // Advances the world by dt_s (> 0, finite) seconds of simulated time.
   void step(double dt_s);
 
-  // Where the manipulator's tip is now (F, mm), or nullopt when unknown. Held
+  // Where the manipulator's tip is now (F, mm), or nullopt when unknown, and
+  // which way it faces (theta, rad about +z of F; nullopt: unknown). Held
   // until changed; sampled by every step.
-  void set_tool_tip(const std::optional<Eigen::Vector3d>& tip_mm);
+  void set_tool_tip(const std::optional<Eigen::Vector3d>& tip_mm,
+                    std::optional<double> theta_rad = std::nullopt);
 
   // Desired herd size (>= 0): missing sheep enter from the edge now, surplus
   // sheep (pending re-entries first, then the newest) are removed.
@@ -149,6 +156,7 @@ class World {
   std::vector<std::unique_ptr<Sheep>> sheep_;
   std::vector<double> reentry_due_s_;  // sim times at which an escaped sheep comes back
   std::optional<Eigen::Vector3d> tool_tip_mm_;
+  std::optional<double> tool_theta_rad_;
   int32_t next_id_ = 1;
   int32_t escapes_ = 0;
   int32_t saves_ = 0;

@@ -218,6 +218,31 @@ TEST(World, LoweredToolTurnsTheSheepTowardTheCentre) {
   EXPECT_EQ(world.saves(), 2);
 }
 
+// The manipulator redirects the sheep the way it faces (the planner aims it
+// past the pedestal); with its orientation unknown, or the switch off,
+// toward the centre.
+TEST(World, TouchedSheepGoesTheWayTheToolFaces) {
+  for (const bool along_tool : {true, false}) {
+    WorldConfig c = empty_field();
+    c.touch_turns_along_tool = along_tool;
+    World world(c);
+    const auto& cell = world.config().workcell;
+    const int32_t id = world.add_sheep(250, 200, kPi, 30.0);
+    world.set_tool_tip(Eigen::Vector3d(280, 210, cell.object_plane_z_mm), 0.3);
+    world.step(0.01);
+    world.set_tool_tip(Eigen::Vector3d(280, 210, cell.elevation_plane_z_mm), 0.3);
+    world.step(0.01);
+    const auto herd = world.sheep();
+    const SheepState* s = find(herd, id);
+    ASSERT_NE(s, nullptr);
+    const double expected = along_tool ? 0.3
+                                       : std::atan2(cell.centre_y_mm() - s->centre_mm.y(),
+                                                    cell.centre_x_mm() - s->centre_mm.x());
+    EXPECT_NEAR(std::remainder(s->heading_rad() - expected, 2 * kPi), 0.0, 0.05)
+        << "along_tool " << along_tool;
+  }
+}
+
 TEST(World, SameSeedSameWorld) {
   WorldConfig c;
   c.sheep = 6;

@@ -81,14 +81,21 @@ struct Options {
   bool pedestal = false;          // ephor-sim's bounces off the pedestal and other sheep
   bool collisions = false;
   bool predict_bounces = false;  // PlannerConfig::predict_bounces
+  // PlannerConfig::redirect_clearance_mm (0: the tool faces the centre).
+  double redirect_clearance_mm = ephor::planner::PlannerConfig{}.redirect_clearance_mm;
+  bool touch_toward_centre = false;  // !KinematicFieldConfig::touch_turns_along_tool
 };
 
 // Which of ephor-sim's bounces the stand-in has, for the headers.
 std::string physics(const Options& o) {
-  if (o.pedestal && o.collisions) return "bounces off the pedestal and other sheep";
-  if (o.pedestal) return "bounces off the pedestal";
-  if (o.collisions) return "bounces off other sheep";
-  return "no collisions, no pedestal";
+  std::string out = o.pedestal && o.collisions ? "bounces off the pedestal and other sheep"
+                    : o.pedestal               ? "bounces off the pedestal"
+                    : o.collisions             ? "bounces off other sheep"
+                                               : "no collisions, no pedestal";
+  if (o.touch_toward_centre) return out + "; a touch turns the sheep at the centre";
+  if (o.redirect_clearance_mm <= 0.0) return out + "; sheep sent at the centre";
+  return out + "; sheep sent past the pedestal by " +
+         std::to_string(static_cast<int>(o.redirect_clearance_mm)) + " mm";
 }
 
 // One line of a traced run: a goal sent, a change of phase or an escape,
@@ -125,10 +132,12 @@ Run run(const std::string& kind, int sheep, uint32_t seed, double seconds, const
   fc.hide_radius_mm = o.hide_mm;
   fc.pedestal = o.pedestal;
   fc.sheep_collisions = o.collisions;
+  fc.touch_turns_along_tool = !o.touch_toward_centre;
   KinematicField field = start ? KinematicField(fc, *start) : KinematicField(fc);
   ephor::planner::PlannerConfig pc;
   pc.workcell = fc.workcell;
   pc.predict_bounces = o.predict_bounces;
+  pc.redirect_clearance_mm = o.redirect_clearance_mm;
   auto planner = ephor::planner::make_planner(kind, pc);
   ArmModel arm;
   arm.speed_mm_s = o.arm_speed_mm_s;  // what the planner assumes (ephor-planner's arm speed)
@@ -211,6 +220,12 @@ int main(int argc, char** argv) {
       "the planner chooses whom to save by bounced paths (PlannerConfig::predict_bounces)");
   app.add_flag("--collisions", o.collisions,
                "sheep bounce off each other, as in ephor-sim (default: they pass through)");
+  app.add_option("--redirect-clearance-mm", o.redirect_clearance_mm,
+                 "the tool sends a sheep past the pedestal's axis by this, mm (0: at the centre)")
+      ->check(CLI::Range(0.0, 400.0));
+  app.add_flag("--touch-toward-centre", o.touch_toward_centre,
+               "a touched sheep turns at the centre whatever the tool's orientation (the "
+               "stand-in before 2026-11-28)");
   app.add_option("--base-yaw-deg", o.base_yaw_deg,
                  "--arm puma: the arm's base turned by this about the vertical, deg (where joint "
                  "1's wedge falls)")

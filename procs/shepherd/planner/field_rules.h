@@ -40,6 +40,19 @@ class FieldRules {
   // (with config.predict_bounces, leaving along their bounced paths).
   std::vector<int> candidates_by_urgency(const std::vector<Sheep>& sheep) const;
 
+  // The orientation, rad in F, for a tool lowered at (x, y) to send sheep
+  // `target_id` on (the touched sheep goes the way the tool faces): within
+  // redirect_max_rad of the centre's direction, the heading along which it
+  // walks longest before the field edge, the pedestal (its centre line within
+  // redirect_clearance_mm of the column) or another sheep's straight path.
+  // redirect_clearance_mm = 0: straight at the centre (the paper's rule).
+  double redirect_heading(double x_mm, double y_mm, const std::vector<Sheep>& sheep,
+                          int target_id) const;
+  // Seconds a sheep at (x, y) walking at speed_mm_s along heading_rad goes
+  // before one of those; straight lines for everyone.
+  double walk_free_s(double x_mm, double y_mm, double heading_rad, double speed_mm_s,
+                     const std::vector<Sheep>& sheep, int target_id) const;
+
   // Inside the field by field_margin_mm and outside the pedestal keep-out.
   bool usable_point(double x_mm, double y_mm) const;
   // Paper step 2's first rejection: tool point or sheep centre outside the
@@ -52,6 +65,10 @@ class FieldRules {
                        double t_from_s, double t_to_s) const;
 
  private:
+  // Straight-line time to the edge for the sheep's velocity as given (no
+  // stationary threshold); +inf for zero velocity.
+  double straight_time_to_edge_s(const Sheep& sheep) const;
+
   PlannerConfig config_;
   BouncePredictor bounces_;
 };

@@ -52,6 +52,47 @@ TEST(FieldRulesTest, HeadingToCentreWithinTheConfiguredAngle) {
   EXPECT_FALSE(rules.needs_saving(sheep(1, 100, 457, std::numeric_limits<double>::quiet_NaN(), 0)));
 }
 
+// The tool faces where the touched sheep will go. Alone on the field: past
+// the pedestal (its centre line at least redirect_clearance_mm from the
+// column's axis), within redirect_max_rad of the centre, so it still counts
+// as headed toward the centre.
+TEST(FieldRulesTest, RedirectHeadingPassesThePedestal) {
+  PlannerConfig config;
+  const FieldRules rules{config};
+  const double bx = config.workcell.base_x_mm, by = config.workcell.base_y_mm;
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {100, 457}, {1119, 457}, {609.5, 40}, {200, 100}, {1000, 850}, {609.5 - 380, 457}}) {
+    const Sheep target = sheep(1, x, y, -8, 0);
+    const double h = rules.redirect_heading(x, y, {target}, 1);
+    const double miss = std::abs(std::cos(h) * (by - y) - std::sin(h) * (bx - x));
+    EXPECT_GE(miss, config.redirect_clearance_mm) << x << ", " << y;
+    const double to_centre = std::atan2(rules.centre_y_mm() - y, rules.centre_x_mm() - x);
+    EXPECT_LE(std::abs(std::remainder(h - to_centre, 2 * std::numbers::pi)),
+              config.redirect_max_rad + 1e-9);
+    EXPECT_TRUE(rules.heading_to_centre(sheep(1, x, y, 8 * std::cos(h), 8 * std::sin(h))));
+  }
+  // Clearance 0: straight at the centre, the paper's rule.
+  config.redirect_clearance_mm = 0.0;
+  EXPECT_NEAR(FieldRules{config}.redirect_heading(100, 457, {}, 1), 0.0, 1e-12);
+}
+
+// From the middle of the left edge the two ways past the pedestal are
+// alike (the one above first); a sheep standing on the upper one makes the
+// tool send it by the lower one.
+TEST(FieldRulesTest, RedirectHeadingAvoidsAnotherSheepsPath) {
+  const FieldRules rules{PlannerConfig{}};
+  const Sheep target = sheep(1, 100, 457, -8, 0);
+  const Sheep crossing = sheep(2, 400, 560, 0, 0);
+  const double alone = rules.redirect_heading(100, 457, {target}, 1);
+  const double with_other = rules.redirect_heading(100, 457, {target, crossing}, 1);
+  EXPECT_GT(alone, 0.0);
+  EXPECT_LT(with_other, 0.0) << "below the column";
+  EXPECT_GT(rules.walk_free_s(100, 457, with_other, 8, {target, crossing}, 1),
+            rules.walk_free_s(100, 457, std::abs(with_other), 8, {target, crossing}, 1));
+  EXPECT_LT(rules.walk_free_s(100, 457, 0.0, 8, {target}, 1), 60.0) << "at the pedestal";
+  EXPECT_GT(rules.walk_free_s(100, 457, alone, 8, {target}, 1), 100.0) << "past it, to the edge";
+}
+
 TEST(FieldRulesTest, UsablePointsAvoidTheEdgeAndThePedestal) {
   const FieldRules rules{PlannerConfig{}};
   EXPECT_TRUE(rules.usable_point(100, 100));

@@ -111,6 +111,19 @@ struct PlannerConfig {
   // "toward the centre" there gains nothing (it would cross the centre and
   // be a candidate again at once, starving sheep near the edge).
   double centre_zone_mm = 150.0;
+  // Where the lowered tool sends a sheep (its orientation theta: the
+  // simulated sheep, as the paper's, is turned the way the manipulator
+  // faces). The paper sends it at the centre; the PUMA's pedestal stands
+  // there, so such a sheep bounces straight back out to the edge it was
+  // saved from. Instead the tool faces, within redirect_max_rad of the
+  // centre (so the sheep still counts as headed toward it), the way the
+  // sheep walks longest before the edge, the pedestal (its centre line
+  // within redirect_clearance_mm of the column's axis: pedestal 70 mm + half
+  // a body's width 44.5 mm + 20 mm) or another sheep's path
+  // (FieldRules::redirect_heading). redirect_clearance_mm = 0: at the centre.
+  double redirect_clearance_mm = 135.0;
+  double redirect_max_rad = 0.4;
+  double redirect_nominal_speed_mm_s = 8.0;  // for a sheep seen standing
   // Slower sheep are treated as stationary (never leave).
   double min_sheep_speed_mm_s = 3.0;
   // When a sheep leaves, for choosing whom to save and in what order: false,

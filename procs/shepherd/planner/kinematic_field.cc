@@ -113,6 +113,7 @@ void KinematicField::step_arm_motion(double dt) {
     const auto& w = config_.workcell;
     const double gz = goal_->plane == Plane::kObject ? w.object_plane_z_mm : w.elevation_plane_z_mm;
     goal_started_ = true;
+    tool_theta_ = goal_->theta_rad;
     if (!arm.start(goal_->x_mm, goal_->y_mm, gz, goal_->theta_rad)) {
       done_.emplace_back(goal_->goal_id, false);
       goal_.reset();
@@ -142,6 +143,7 @@ void KinematicField::step(double dt) {
     step_arm_motion(dt);
   } else if (goal_ && now_s_ >= goal_start_s_) {
     // Arm: straight line at its speed cap towards the goal.
+    tool_theta_ = goal_->theta_rad;
     const double gz = goal_->plane == Plane::kObject ? w.object_plane_z_mm : w.elevation_plane_z_mm;
     const double dx = goal_->x_mm - tool_x_;
     const double dy = goal_->y_mm - tool_y_;
@@ -187,7 +189,9 @@ void KinematicField::step(double dt) {
     if (inside && !s.touched_now) {
       s.old_heading = s.heading;
       s.turned_at_s = now_s_;
-      s.heading = std::atan2(w.centre_y_mm() - s.y, w.centre_x_mm() - s.x);
+      s.heading = config_.touch_turns_along_tool
+                      ? tool_theta_
+                      : std::atan2(w.centre_y_mm() - s.y, w.centre_x_mm() - s.x);
       ++touches_;
     }
     s.touched_now = inside;

@@ -72,6 +72,12 @@ struct KinematicFieldConfig {
   // little early at a corner. A bounce is seen late like a touch (velocity_lag_s).
   bool pedestal = false;
   bool sheep_collisions = false;
+  // A touched sheep is turned the way the lowered tool faces (its goal's
+  // theta), as ephor-sim turns it (common/shepherd/sim/world.h
+  // touch_turns_along_tool): the paper's manipulator is "oriented to catch"
+  // the sheep and redirects it. false: straight at the field centre whatever
+  // the tool's orientation (the stand-in before 2026-11-28).
+  bool touch_turns_along_tool = true;
   double start_x_mm = 1219.0 - 60.0;  // the arm starts parked
   double start_y_mm = 60.0;
   // A real arm instead of the point (it starts where it is, not at
@@ -131,6 +137,9 @@ class KinematicField {
   int next_id_ = 1;
   double now_s_ = 0.0;
   double tool_x_, tool_y_, tool_z_;
+  // The tool's orientation about +z of F, rad: the newest goal's theta once
+  // the arm has started it (set before it arrives: the wrist turns on the way).
+  double tool_theta_ = 0.0;
   std::optional<Goal> goal_;
   double goal_start_s_ = 0.0;
   bool goal_started_ = false;  // handed to config_.arm_motion

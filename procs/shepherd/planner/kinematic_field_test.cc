@@ -49,6 +49,34 @@ TEST(KinematicFieldTest, LoweredToolTurnsASheepTowardTheCentre) {
   EXPECT_GT(s.sheep[0].vx_mm_s, 0.0);  // now walking toward the centre (x = 609.5)
 }
 
+// As ephor-sim: the touched sheep goes the way the lowered tool faces (the
+// goal's theta); with touch_turns_along_tool off, at the centre whatever
+// the tool's orientation.
+TEST(KinematicFieldTest, TouchedSheepGoesTheWayTheToolFaces) {
+  for (const bool along_tool : {true, false}) {
+    KinematicFieldConfig fc;
+    fc.touch_turns_along_tool = along_tool;
+    fc.start_x_mm = 200;
+    fc.start_y_mm = 400;
+    KinematicField field{fc, {Sheep{1, 400, 400, -30, 0, SheepState::kVisible}}};
+    Goal lower;
+    lower.goal_id = 1;
+    lower.plane = Plane::kObject;
+    lower.x_mm = 200;
+    lower.y_mm = 400;
+    lower.theta_rad = 0.3;
+    field.send(lower);
+    for (int i = 0; i < 300 && field.touches() == 0; ++i) field.step(0.05);
+    ASSERT_EQ(field.touches(), 1);
+    field.step(0.05);
+    const Sheep s = field.scene(ArmModel{}).sheep.at(0);
+    const double expected = along_tool ? 0.3
+                                       : std::atan2(fc.workcell.centre_y_mm() - s.y_mm,
+                                                    fc.workcell.centre_x_mm() - s.x_mm);
+    EXPECT_NEAR(std::atan2(s.vy_mm_s, s.vx_mm_s), expected, 0.02) << "along_tool " << along_tool;
+  }
+}
+
 // ephor-sim's bounces, on request: a sheep driving head-on at the pedestal
 // (workcell base at the field centre, radius 70 mm) comes straight back once
 // its front (114.5 mm ahead of its centre) reaches the column; without the

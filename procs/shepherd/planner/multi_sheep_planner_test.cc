@@ -45,11 +45,15 @@ TEST(MultiSheepPlannerTest, Step1PicksTheSheepLeavingSoonest) {
   EXPECT_EQ(planner.status().num_candidates, 2);
   ASSERT_EQ(planner.last_verdicts().size(), 1u);
   EXPECT_EQ(planner.last_verdicts()[0].verdict, Verdict::kAccepted);
-  // The goal is on A's path, ahead of it, inside the field, facing the centre.
+  // The goal is on A's path, ahead of it, inside the field, facing where the
+  // touch will send A: toward the centre, past the pedestal.
   EXPECT_NEAR(goal->y_mm, 600.0, 1e-9);
   EXPECT_LT(goal->x_mm, 300.0);
   EXPECT_GT(goal->x_mm, 25.0);
-  EXPECT_NEAR(goal->theta_rad, std::atan2(kCy - goal->y_mm, kCx - goal->x_mm), 1e-12);
+  const FieldRules rules{PlannerConfig{}};
+  EXPECT_NEAR(goal->theta_rad, rules.redirect_heading(goal->x_mm, goal->y_mm, {kB, kA}, 1), 1e-12);
+  EXPECT_LE(std::abs(goal->theta_rad - std::atan2(kCy - goal->y_mm, kCx - goal->x_mm)),
+            PlannerConfig{}.redirect_max_rad + 1e-12);
 }
 
 TEST(MultiSheepPlannerTest, Step1SkipsASheepAlreadyHeadingToTheCentre) {

@@ -503,13 +503,20 @@ std::optional<Goal> SaveCyclePlanner::send(const Scene& scene, Plane plane, doub
   // ephor-arm goes past its column by a joint-space path of 4-13 s; two or
   // three straight legs around it take a fraction of that. The leg ends at a
   // waypoint; verify() then re-plans from there (the next leg, or lowering).
+  bool waypoint = false;
   if (plane == Plane::kElevation && config().column_waypoints) {
     if (const auto wp = column_waypoint(scene.arm, x_mm, y_mm)) {
       x_mm = wp->first;
       y_mm = wp->second;
       theta_rad = std::atan2(rules_.centre_y_mm() - y_mm, rules_.centre_x_mm() - x_mm);
+      waypoint = true;
     }
   }
+  // Serving a sheep: the tool faces where the touch will send it (past the
+  // pedestal), already on the way there so the wrist need not turn when
+  // lowering.
+  if (target >= 0 && !waypoint)
+    theta_rad = rules_.redirect_heading(x_mm, y_mm, scene.sheep, target);
   Goal goal;
   goal.goal_id = next_goal_id_++;
   goal.plane = plane;
