@@ -14,30 +14,62 @@ PolynomialPosePredictor::PolynomialPosePredictor(int degree, RotationCoordinates
     throw std::invalid_argument("PolynomialPosePredictor: degree must be 0..5");
 }
 
-Eigen::VectorXd PolynomialPosePredictor::basis(double t_s) const {
-  Eigen::VectorXd phi(degree_ + 1);
-  const double u = (t_s - t_ref_s_) / t_scale_s_;
+Eigen::VectorXd PolynomialMotion::basis(double t_s) const {
+  Eigen::VectorXd phi(degree + 1);
+  const double u = (t_s - t_mid_s) / t_scale_s;
   double p = 1.0;
-  for (int k = 0; k <= degree_; ++k, p *= u) phi[k] = p;
+  for (int k = 0; k <= degree; ++k, p *= u) phi[k] = p;
   return phi;
+}
+
+Eigen::Isometry3d PolynomialMotion::pose(double t_s) const {
+  const Eigen::VectorXd phi = basis(t_s);
+  Eigen::Vector3d xyz, ang;
+  for (int c = 0; c < 3; ++c) {
+    xyz[c] = phi.dot(coeff[static_cast<std::size_t>(c)]);
+    ang[c] = phi.dot(coeff[static_cast<std::size_t>(c + 3)]);
+  }
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  if (rotation == RotationCoordinates::kRotationVector) {
+    const double a = ang.norm();
+    p.linear() =
+        a < 1e-12 ? r_mid : (r_mid * Eigen::AngleAxisd(a, ang / a).toRotationMatrix()).eval();
+  } else {
+    p.linear() = from_zyx_angles(ang);
+  }
+  p.translation() = xyz;
+  return p;
+}
+
+bool PolynomialMotion::valid() const {
+  if (degree < 0 || degree > 5 || !std::isfinite(t_mid_s) || !(t_scale_s > 0.0) ||
+      !std::isfinite(t_scale_s) || !r_mid.allFinite() ||
+      (r_mid.transpose() * r_mid - Eigen::Matrix3d::Identity()).norm() > 1e-6)
+    return false;
+  for (const Eigen::VectorXd& c : coeff)
+    if (c.size() != degree + 1 || !c.allFinite()) return false;
+  return true;
 }
 
 bool PolynomialPosePredictor::fit(const std::vector<PoseSample>& samples, std::string* why) {
   fitted_ = false;
   if (!check_samples(samples, static_cast<std::size_t>(degree_ + 1), why)) return false;
   const int n = static_cast<int>(samples.size());
-  t_ref_s_ = 0.5 * (samples.front().t_s + samples.back().t_s);
-  t_scale_s_ = std::max(0.5 * (samples.back().t_s - samples.front().t_s), 1e-6);
+  m_ = PolynomialMotion{};
+  m_.degree = degree_;
+  m_.rotation = rotation_;
+  m_.t_mid_s = 0.5 * (samples.front().t_s + samples.back().t_s);
+  m_.t_scale_s = std::max(0.5 * (samples.back().t_s - samples.front().t_s), 1e-6);
   Eigen::MatrixXd a(n, degree_ + 1);
   Eigen::MatrixXd y(n, 6);
   Eigen::Vector3d prev = Eigen::Vector3d::Zero();
-  r_mid_ = samples[static_cast<std::size_t>(n / 2)].pose.linear();
+  m_.r_mid = samples[static_cast<std::size_t>(n / 2)].pose.linear();
   for (int i = 0; i < n; ++i) {
     const auto& s = samples[static_cast<std::size_t>(i)];
-    a.row(i) = basis(s.t_s).transpose();
+    a.row(i) = m_.basis(s.t_s).transpose();
     Eigen::Vector3d ang;
     if (rotation_ == RotationCoordinates::kRotationVector) {
-      const Eigen::AngleAxisd aa(r_mid_.transpose() * s.pose.linear());
+      const Eigen::AngleAxisd aa(m_.r_mid.transpose() * s.pose.linear());
       ang = aa.angle() * aa.axis();
     } else {
       ang = zyx_angles(s.pose.linear());
@@ -59,8 +91,8 @@ bool PolynomialPosePredictor::fit(const std::vector<PoseSample>& samples, std::s
   }
   const int dof = n - (degree_ + 1);
   for (int c = 0; c < 6; ++c) {
-    coeff_[static_cast<std::size_t>(c)] = qr.solve(y.col(c));
-    const double rss = (a * coeff_[static_cast<std::size_t>(c)] - y.col(c)).squaredNorm();
+    m_.coeff[static_cast<std::size_t>(c)] = qr.solve(y.col(c));
+    const double rss = (a * m_.coeff[static_cast<std::size_t>(c)] - y.col(c)).squaredNorm();
     residual_var_[static_cast<std::size_t>(c)] = dof > 0 ? rss / dof : 0.0;
   }
   ata_inv_ = (a.transpose() * a).inverse();
@@ -70,29 +102,27 @@ bool PolynomialPosePredictor::fit(const std::vector<PoseSample>& samples, std::s
 
 double PolynomialPosePredictor::coordinate(int c, double t_s, double* sigma) const {
   if (!fitted_) throw std::logic_error("PolynomialPosePredictor: predict before a successful fit");
-  const Eigen::VectorXd phi = basis(t_s);
+  const Eigen::VectorXd phi = m_.basis(t_s);
   if (sigma)
     *sigma = std::sqrt(
         std::max(0.0, residual_var_[static_cast<std::size_t>(c)] * phi.dot(ata_inv_ * phi)));
-  return phi.dot(coeff_[static_cast<std::size_t>(c)]);
+  return phi.dot(m_.coeff[static_cast<std::size_t>(c)]);
+}
+
+PolynomialMotion PolynomialPosePredictor::motion() const {
+  if (!fitted_) throw std::logic_error("PolynomialPosePredictor: motion before a successful fit");
+  return m_;
 }
 
 PosePrediction PolynomialPosePredictor::predict(double t_s) const {
+  if (!fitted_) throw std::logic_error("PolynomialPosePredictor: predict before a successful fit");
   PosePrediction p;
-  Eigen::Vector3d xyz, ypr, sp, sr;
+  Eigen::Vector3d sp, sr;
   for (int c = 0; c < 3; ++c) {
-    xyz[c] = coordinate(c, t_s, &sp[c]);
-    ypr[c] = coordinate(c + 3, t_s, &sr[c]);
+    coordinate(c, t_s, &sp[c]);
+    coordinate(c + 3, t_s, &sr[c]);
   }
-  p.pose = Eigen::Isometry3d::Identity();
-  if (rotation_ == RotationCoordinates::kRotationVector) {
-    const double a = ypr.norm();
-    p.pose.linear() =
-        a < 1e-12 ? r_mid_ : (r_mid_ * Eigen::AngleAxisd(a, ypr / a).toRotationMatrix()).eval();
-  } else {
-    p.pose.linear() = from_zyx_angles(ypr);
-  }
-  p.pose.translation() = xyz;
+  p.pose = m_.pose(t_s);
   p.position_sigma_mm = sp.norm();
   p.rotation_sigma_rad = sr.norm();
   return p;

@@ -26,6 +26,25 @@ namespace ephor::rambo {
 //                    it (our addition, for a fairer comparison).
 enum class RotationCoordinates { kZyxAngles, kRotationVector };
 
+// A fitted polynomial motion as data, so that it can be sent (the predictor
+// process to the planner and the simulator's scoring, rambo_prediction_t)
+// and evaluated where it arrives: coordinate c at t is
+// sum_k coeff[c][k] ((t - t_mid_s) / t_scale_s)^k.
+struct PolynomialMotion {
+  int degree = 0;  // 0..5
+  RotationCoordinates rotation = RotationCoordinates::kZyxAngles;
+  double t_mid_s = 0.0;                                 // centre of the basis, s (the fit's clock)
+  double t_scale_s = 1.0;                               // > 0, s
+  Eigen::Matrix3d r_mid = Eigen::Matrix3d::Identity();  // kRotationVector's reference orientation
+  std::array<Eigen::VectorXd, 6> coeff;                 // each degree + 1 long
+  // The six coordinates' basis at t_s.
+  Eigen::VectorXd basis(double t_s) const;
+  // The target in base at t_s (mm).
+  Eigen::Isometry3d pose(double t_s) const;
+  // Degree in 0..5, every coefficient sized and finite, t_scale_s > 0, r_mid a rotation.
+  bool valid() const;
+};
+
 class PolynomialPosePredictor : public PosePredictor {
  public:
   // degree: 0..5 (the paper does not say; 2 = constant acceleration).
@@ -38,18 +57,18 @@ class PolynomialPosePredictor : public PosePredictor {
   PosePrediction predict(double t_s) const override;
 
   int degree() const { return degree_; }
+  RotationCoordinates rotation() const { return rotation_; }
+  // After a successful fit: the fitted motion as data (predict()'s pose).
+  PolynomialMotion motion() const;
   // Coordinate c (0..5: x, y, z, then the rotation coordinates) at t_s, and its sigma.
   double coordinate(int c, double t_s, double* sigma = nullptr) const;
 
  private:
-  Eigen::VectorXd basis(double t_s) const;
-
   int degree_;
   RotationCoordinates rotation_;
-  Eigen::Matrix3d r_mid_ = Eigen::Matrix3d::Identity();
   bool fitted_ = false;
-  double t_ref_s_ = 0.0, t_scale_s_ = 1.0;  // basis in (t - t_ref) / t_scale for conditioning
-  std::array<Eigen::VectorXd, 6> coeff_;
+  // The fit: basis in (t - t_mid) / t_scale for conditioning.
+  PolynomialMotion m_;
   std::array<double, 6> residual_var_{};
   Eigen::MatrixXd ata_inv_;
 };

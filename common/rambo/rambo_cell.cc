@@ -29,12 +29,13 @@ Eigen::Isometry3d beam_pose(const Eigen::Vector3d& tip, const Eigen::Vector3d& b
 TargetSpec RamboCell::builtin_target() {
   TargetSpec t;
   // Lenses on the faces that start turned towards the arm (-x), tubes tilted
-  // towards it so that a goal 200 mm out stays within the PUMA's reach.
+  // towards it (within 27 deg of -x) so that a goal 200 mm out stays within
+  // the PUMA's reach while the tumble turns the target (why: target.pbtxt).
   t.diodes = {
       {"front", {-kSx / 2, 20.0, 10.0}, Eigen::Vector3d(-1.0, 0.0, 0.0), kStandoffMm},
-      {"top", {-40.0, -20.0, kSz / 2}, Eigen::Vector3d(-1.0, 0.0, 1.0).normalized(), kStandoffMm},
-      {"right", {-30.0, -kSy / 2, 0.0}, Eigen::Vector3d(-0.5, -1.0, 0.0).normalized(), kStandoffMm},
-      {"left", {-50.0, kSy / 2, -10.0}, Eigen::Vector3d(-0.5, 1.0, 0.0).normalized(), kStandoffMm},
+      {"top", {-40.0, -20.0, kSz / 2}, Eigen::Vector3d(-2.0, 0.0, 1.0).normalized(), kStandoffMm},
+      {"right", {-30.0, -kSy / 2, 0.0}, Eigen::Vector3d(-2.0, -1.0, 0.0).normalized(), kStandoffMm},
+      {"left", {-50.0, kSy / 2, -10.0}, Eigen::Vector3d(-2.0, 1.0, 0.0).normalized(), kStandoffMm},
   };
   // The box's cut corner turned (180 deg about z) to (-x, -y, +z), towards
   // the arm: a box shows the same image in two poses 180 deg apart unless

@@ -45,6 +45,27 @@ Eigen::Isometry3d Rm501Carrier::flange_in_arm(const Joints& q) {
   return f;
 }
 
+std::array<Eigen::Vector3d, 5> Rm501Carrier::chain_in_arm(const Joints& q) {
+  const double phi2 = q[1], phi3 = q[1] + q[2], phi4 = q[1] + q[2] + q[3];
+  const Eigen::Vector3d out(std::cos(q[0]), std::sin(q[0]), 0.0);  // the waist's heading
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  std::array<Eigen::Vector3d, 5> p;
+  p[0] = Eigen::Vector3d::Zero();
+  p[1] = kShoulderHeightMm * up;
+  p[2] = p[1] + kUpperArmMm * (std::cos(phi2) * out + std::sin(phi2) * up);
+  p[3] = p[2] + kForearmMm * (std::cos(phi3) * out + std::sin(phi3) * up);
+  p[4] = p[3] + kHandMm * (std::cos(phi4) * out + std::sin(phi4) * up);
+  return p;
+}
+
+std::array<Eigen::Vector3d, 6> Rm501Carrier::chain(double t_s) const {
+  const std::array<Eigen::Vector3d, 5> a = chain_in_arm(joints(t_s));
+  std::array<Eigen::Vector3d, 6> p;
+  for (std::size_t k = 0; k < a.size(); ++k) p[k] = arm_in_base_ * a[k];
+  p[5] = pose(t_s).translation();
+  return p;
+}
+
 Rm501Carrier::Rm501Carrier(const Eigen::Isometry3d& target_pose0, std::uint64_t seed,
                            double speed_scale) {
   if (!(speed_scale > 0.0) || !std::isfinite(speed_scale))

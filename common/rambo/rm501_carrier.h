@@ -65,6 +65,16 @@ class Rm501Carrier {
 
   // The flange in the arm's own frame (mm).
   static Eigen::Isometry3d flange_in_arm(const Joints& q);
+  // The arm's links as a chain of points in its own frame (mm): the waist's
+  // foot on the floor, the shoulder, the elbow, the wrist (pitch axis), the
+  // flange. For drawing it (the camera frames, the page).
+  static std::array<Eigen::Vector3d, 5> chain_in_arm(const Joints& q);
+  // The same in the PUMA's base at t, with the target's origin (the end of
+  // the mount) appended: 6 points, mm.
+  std::array<Eigen::Vector3d, 6> chain(double t_s) const;
+  // Each link's radius for drawing, mm (ours: the Movemaster's castings
+  // roughly; the mount a rod), link k joining chain point k to k + 1.
+  static constexpr std::array<double, 5> kLinkRadiusMm{60.0, 40.0, 32.0, 25.0, 12.0};
 
   Joints joints(double t_s) const;       // rad
   Joints joint_rates(double t_s) const;  // rad/s

@@ -41,6 +41,29 @@ TEST(Rm501Carrier, ForwardKinematicsOfHandCheckedPoses) {
   EXPECT_NEAR(std::atan2(f.linear()(2, 1), f.linear()(1, 1)), 30 * kDeg, 1e-12);
 }
 
+// The drawn chain: its flange is the forward kinematics' flange, its links
+// are the arm's lengths, and in the PUMA's base it ends at the target's
+// origin, the mount's length beyond the flange.
+TEST(Rm501Carrier, TheDrawnChainFollowsTheForwardKinematics) {
+  using C = Rm501Carrier;
+  C::Joints q;
+  q << 20 * kDeg, 60 * kDeg, -60 * kDeg, 10 * kDeg, 45 * kDeg;
+  const auto p = C::chain_in_arm(q);
+  EXPECT_LT((p[4] - C::flange_in_arm(q).translation()).norm(), 1e-9);
+  EXPECT_NEAR((p[1] - p[0]).norm(), C::kShoulderHeightMm, 1e-9);
+  EXPECT_NEAR((p[2] - p[1]).norm(), C::kUpperArmMm, 1e-9);
+  EXPECT_NEAR((p[3] - p[2]).norm(), C::kForearmMm, 1e-9);
+  EXPECT_NEAR((p[4] - p[3]).norm(), C::kHandMm, 1e-9);
+  const RamboCell cell = RamboCell::make(4);
+  const C arm(cell.draw_motion(2, 2.0, 1.0).pose0, 2);
+  for (double t : {0.0, 13.0, 77.0}) {
+    const auto c = arm.chain(t);
+    EXPECT_LT((c[5] - arm.pose(t).translation()).norm(), 1e-9) << t;
+    EXPECT_NEAR((c[5] - c[4]).norm(), C::kMountMm, 1e-9) << t;
+    EXPECT_NEAR(c[0].z() - c[1].z(), -C::kShoulderHeightMm, 1e-9) << t;  // the waist upright
+  }
+}
+
 // The carried target starts where the free-floating one does, and over two
 // minutes (10 ms samples) its joints stay within the RM-501's limits and
 // speeds, its motion is smooth (velocity and angular velocity change little

@@ -12,6 +12,7 @@
 namespace ephor::rambo {
 
 Eigen::Isometry3d FittedMotion::pose(double t_s) const {
+  if (polynomial) return polynomial->pose(t_s);
   Eigen::Quaterniond q = orientation;
   Eigen::Vector3d w = body_rates_rad_s;
   RigidBodyPosePredictor::propagate(principal_moments, 0.005, t_s - t_ref_s, &q, &w);
@@ -45,7 +46,7 @@ bool FittedMotion::finite() const {
   return std::isfinite(t_ref_s) && position_mm.allFinite() && velocity_mm_s.allFinite() &&
          orientation.coeffs().allFinite() && orientation.norm() > 0.5 &&
          body_rates_rad_s.allFinite() && principal_moments.allFinite() &&
-         principal_moments.minCoeff() > 0.0;
+         principal_moments.minCoeff() > 0.0 && (!polynomial || polynomial->valid());
 }
 
 namespace {
@@ -61,6 +62,7 @@ class SampledMotion {
  public:
   static constexpr double kStepS = 0.01;
   SampledMotion(const FittedMotion& m, double t0_s, double span_s) : m_(m), t0_s_(t0_s) {
+    if (m.polynomial) return;  // cheap to evaluate: no table
     Eigen::Quaterniond q = m.orientation;
     Eigen::Vector3d w = m.body_rates_rad_s;
     RigidBodyPosePredictor::propagate(m.principal_moments, 0.005, t0_s - m.t_ref_s, &q, &w);
@@ -74,7 +76,7 @@ class SampledMotion {
   }
   Eigen::Isometry3d pose(double t_s) const {
     const double u = (t_s - t0_s_) / kStepS;
-    if (!(u >= 0.0) || u >= static_cast<double>(q_.size() - 1)) return m_.pose(t_s);
+    if (q_.empty() || !(u >= 0.0) || u >= static_cast<double>(q_.size() - 1)) return m_.pose(t_s);
     const auto k = static_cast<std::size_t>(u);
     Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
     p.linear() = q_[k].slerp(u - static_cast<double>(k), q_[k + 1]).toRotationMatrix();

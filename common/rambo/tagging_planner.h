@@ -24,11 +24,14 @@
 
 #include "common/arm/puma560.h"
 #include "common/rambo/joint_trajectory.h"
+#include "common/rambo/polynomial_pose_predictor.h"
 #include "common/rambo/rambo_cell.h"
 
 namespace ephor::rambo {
 
-// The predictor's fit: a torque-free rigid body with constant momenta.
+// The predictor's fit: a torque-free rigid body with constant momenta, or
+// (a target carried by the RM-501, which is no free body) the paper's
+// polynomial fits of the six pose coordinates (section 6).
 struct FittedMotion {
   double t_ref_s = 0.0;
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // origin at t_ref
@@ -36,7 +39,10 @@ struct FittedMotion {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // target -> base at t_ref
   Eigen::Vector3d body_rates_rad_s = Eigen::Vector3d::Zero();
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Ones();
-  // Target in base at t_s (Euler's equations, RK4 in 5 ms steps).
+  // When set, the motion is this polynomial (its times on the same clock as
+  // t_ref_s) and the rigid-body fields above are only its state at t_ref_s.
+  std::optional<PolynomialMotion> polynomial;
+  // Target in base at t_s (the polynomial, else Euler's equations, RK4 in 5 ms steps).
   Eigen::Isometry3d pose(double t_s) const;
   bool finite() const;
 };

@@ -12,9 +12,28 @@ TargetRenderer::TargetRenderer(TargetModel model, CameraIntrinsics camera, doubl
                                std::uint64_t seed)
     : model_(std::move(model)), camera_(camera), noise_grey_(noise_grey), rng_(seed) {}
 
-int TargetRenderer::render(const Eigen::Isometry3d& target_in_camera, cv::Mat& image) {
+int TargetRenderer::render(const Eigen::Isometry3d& target_in_camera, cv::Mat& image,
+                           const std::vector<RenderedLink>& links) {
   image.create(camera_.height_px, camera_.width_px, CV_8UC1);
   image.setTo(cv::Scalar(25));
+  for (const RenderedLink& l : links) {
+    if (!(l.a_mm.z() >= 10.0 && l.b_mm.z() >= 10.0) || !(l.radius_mm > 0.0)) continue;
+    const Eigen::Vector2d a = camera_.project(l.a_mm), b = camera_.project(l.b_mm);
+    // Width at the nearer end's depth; at most the image's width.
+    const double width_px =
+        std::min(2.0 * l.radius_mm * camera_.fx_px / std::min(l.a_mm.z(), l.b_mm.z()),
+                 static_cast<double>(camera_.width_px));
+    if (!a.allFinite() || !b.allFinite() || a.cwiseAbs().maxCoeff() > 1e5 ||
+        b.cwiseAbs().maxCoeff() > 1e5)
+      continue;
+    // 1/16 px fixed point, as the faces.
+    cv::line(image,
+             cv::Point(static_cast<int>(std::lround(a.x() * 16.0)),
+                       static_cast<int>(std::lround(a.y() * 16.0))),
+             cv::Point(static_cast<int>(std::lround(b.x() * 16.0)),
+                       static_cast<int>(std::lround(b.y() * 16.0))),
+             cv::Scalar(95), std::max(1, static_cast<int>(std::lround(width_px))), cv::LINE_AA, 4);
+  }
   const Eigen::Vector3d camera_in_target = target_in_camera.inverse().translation();
   int drawn = 0;
   for (int f = 0; f < static_cast<int>(model_.faces().size()); ++f) {

@@ -17,7 +17,18 @@
 //               OpenCV's solvePnPRansac (AP3P) over every image point x model
 //               vertex correspondence, on the same image triples (0.5 px noise).
 //
+//   reach       for the live runs' targets (the model file, seeds 1..N,
+//               free tumble and RM-501), how much of a 120 s run each
+//               diode's goal pose is within the PUMA's reach at landing and
+//               a hold later (GoalReachSurvey): a diode never in reach cannot
+//               be tagged by any order or timing.
+//   live-prediction  the same targets (free and RM-501) seen at 5 Hz with the
+//               live pose error: every goal point predicted 0.5, 1, 2 s ahead
+//               by the rigid body and the paper's polynomial fits.
+//
 //   ephor-bench-rambo [--json FILE] [--seed S] [--poses N] [--seeds N]
+//                     [--sections ordering,reaching,prediction,pose,live-prediction,reach]
+//                     [--model FILE] [--reach-seeds N]
 
 #include <time.h>
 
@@ -25,6 +36,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -33,10 +46,13 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
 
+#include "common/rambo/goal_reach_survey.h"
 #include "common/rambo/polynomial_pose_predictor.h"
 #include "common/rambo/ransac_pose_peer.h"
 #include "common/rambo/reaching_planner.h"
 #include "common/rambo/rigid_body_pose_predictor.h"
+#include "common/rambo/rm501_carrier.h"
+#include "common/rambo/target_model_file.h"
 #include "common/rambo/task_orderer.h"
 #include "common/rambo/triangle_pose_estimator.h"
 #include "common/rambo/tumbling_body.h"
@@ -307,6 +323,109 @@ nlohmann::json bench_prediction(int seeds, unsigned seed0) {
           {"targets", seeds}};
 }
 
+// The live runs' two target motions (the sim's free tumble at 2 deg/s and
+// the RM-501 carrying it, seeds 1..N, model file's goal points) observed as
+// the live pose process sees them: 5 Hz, 0.8 mm and 0.3 deg noise (its p50
+// errors), a window of poses ending every 10 s from 10 to 110 s. Each motion
+// model predicts every goal point 0.5, 1 and 2 s past the window's last pose.
+nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
+  const RamboCell cell = cell_from_flags(model_path, 0);
+  const std::vector<double> horizons{0.5, 1.0, 2.0};
+  struct Model {
+    std::string name;
+    int degree;  // -1 = rigid body
+    RotationCoordinates rotation;
+    double window_s;
+  };
+  const std::vector<Model> models{
+      {"rigid body, 4 s", -1, RotationCoordinates::kRotationVector, 4.0},
+      {"quadratic ZYX (paper), 4 s", 2, RotationCoordinates::kZyxAngles, 4.0},
+      {"linear rot-vector, 2 s", 1, RotationCoordinates::kRotationVector, 2.0},
+      {"linear rot-vector, 4 s", 1, RotationCoordinates::kRotationVector, 4.0},
+      {"quadratic rot-vector, 4 s", 2, RotationCoordinates::kRotationVector, 4.0},
+      {"quadratic rot-vector, 8 s", 2, RotationCoordinates::kRotationVector, 8.0},
+      {"cubic rot-vector, 8 s", 3, RotationCoordinates::kRotationVector, 8.0}};
+  nlohmann::json out;
+  std::printf(
+      "prediction, the live targets: %d seeds, poses at 5 Hz with 0.8 mm / 0.3 deg noise, every "
+      "goal point, error mm p50 / p90\n",
+      seeds);
+  for (const std::string carrier : {"free", "rm501"}) {
+    std::vector<std::vector<std::vector<double>>> err(
+        models.size(), std::vector<std::vector<double>>(horizons.size()));
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const TumblingMotion m = cell.draw_motion(static_cast<std::uint64_t>(seed), 2.0, 1.0);
+      std::function<Eigen::Isometry3d(double)> truth;
+      std::shared_ptr<TumblingBody> body;
+      std::shared_ptr<Rm501Carrier> arm;
+      if (carrier == "free") {
+        body = std::make_shared<TumblingBody>(m.pose0, m.velocity_mm_s, m.body_rates_rad_s,
+                                              cell.principal_moments);
+        truth = [body](double t) { return body->pose(t); };
+      } else {
+        arm = std::make_shared<Rm501Carrier>(m.pose0, static_cast<std::uint64_t>(seed), 1.0);
+        truth = [arm](double t) { return arm->pose(t); };
+      }
+      std::mt19937 rng(static_cast<unsigned>(seed) * 7919u + 17u);
+      std::normal_distribution<double> n(0.0, 1.0);
+      // Every observation of the run, drawn once, in time order (the body is
+      // cheapest queried forward): 5 Hz from 0 to 120 s.
+      std::vector<PoseSample> all;
+      for (int k = 0; k <= 600; ++k) {
+        const double t = 0.2 * k;
+        PoseSample x{t, truth(t)};
+        x.pose.translation() += (0.8 / std::sqrt(3.0)) * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        const Eigen::Vector3d e =
+            (0.3 / std::sqrt(3.0) * M_PI / 180.0) * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        x.pose.linear() =
+            x.pose.linear() * Eigen::AngleAxisd(e.norm(), e.normalized()).toRotationMatrix();
+        all.push_back(x);
+      }
+      for (double t_end = 10.0; t_end <= 110.0; t_end += 10.0) {
+        std::vector<std::vector<Eigen::Vector3d>> goal_truth(horizons.size());
+        for (std::size_t h = 0; h < horizons.size(); ++h)
+          for (int i = 0; i < static_cast<int>(cell.diodes.size()); ++i)
+            goal_truth[h].push_back(
+                (truth(t_end + horizons[h]) * cell.goal_in_target(i)).translation());
+        for (std::size_t k = 0; k < models.size(); ++k) {
+          std::vector<PoseSample> window;
+          for (const PoseSample& x : all)
+            if (x.t_s > t_end - models[k].window_s - 1e-9 && x.t_s <= t_end + 1e-9)
+              window.push_back(x);
+          std::unique_ptr<PosePredictor> p;
+          if (models[k].degree < 0)
+            p = std::make_unique<RigidBodyPosePredictor>(cell.principal_moments);
+          else
+            p = std::make_unique<PolynomialPosePredictor>(models[k].degree, models[k].rotation);
+          if (!p->fit(window, nullptr)) continue;
+          for (std::size_t h = 0; h < horizons.size(); ++h)
+            for (int i = 0; i < static_cast<int>(cell.diodes.size()); ++i)
+              err[k][h].push_back(
+                  (p->predict_goal(cell.goal_in_target(i), t_end + horizons[h]).pose.translation() -
+                   goal_truth[h][static_cast<std::size_t>(i)])
+                      .norm());
+        }
+      }
+    }
+    std::printf("  %s:%*s   0.5 s            1 s              2 s\n", carrier.c_str(),
+                static_cast<int>(28 - carrier.size()), "");
+    nlohmann::json c;
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      std::printf("    %-28s", models[k].name.c_str());
+      nlohmann::json row;
+      for (std::size_t h = 0; h < horizons.size(); ++h) {
+        std::printf("  %6.2f / %6.2f", percentile(err[k][h], 50), percentile(err[k][h], 90));
+        row[std::to_string(horizons[h]).substr(0, 3) + "s"] = {{"p50", percentile(err[k][h], 50)},
+                                                               {"p90", percentile(err[k][h], 90)}};
+      }
+      std::printf("\n");
+      c[models[k].name] = row;
+    }
+    out[carrier] = c;
+  }
+  return out;
+}
+
 // OpenCV's RANSAC over all correspondence hypotheses (RansacPosePeer: the
 // same peer ephor-rambo-pose runs in a live run with --peer-every).
 bool ransac_peer(const TargetModel& m, const CameraIntrinsics& cam,
@@ -396,17 +515,77 @@ nlohmann::json bench_pose(int poses, unsigned seed0) {
   return out;
 }
 
+// The live runs' target (the sim's: RamboCell::draw_motion at 2 deg/s and
+// 1 mm/s drift, or the RM-501 from the same start pose) over 120 s.
+nlohmann::json bench_reach(const std::string& model_path, int seeds) {
+  const RamboCell cell = cell_from_flags(model_path, 0);
+  nlohmann::json out;
+  std::printf("reach: %s, %d seeds, 120 s at 0.5 s: goal reachable at t and t + 2 s\n",
+              model_path.empty() ? "built-in target" : model_path.c_str(), seeds);
+  for (const std::string carrier : {"free", "rm501"}) {
+    std::vector<std::vector<double>> fraction(cell.diodes.size()), window(cell.diodes.size());
+    std::vector<std::vector<int>> never(cell.diodes.size());
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const TumblingMotion m = cell.draw_motion(static_cast<std::uint64_t>(seed), 2.0, 1.0);
+      std::vector<DiodeReach> r;
+      if (carrier == "free") {
+        TumblingBody body(m.pose0, m.velocity_mm_s, m.body_rates_rad_s, cell.principal_moments);
+        r = survey_goal_reach(cell, [&](double t) { return body.pose(t); });
+      } else {
+        const Rm501Carrier arm(m.pose0, static_cast<std::uint64_t>(seed), 1.0);
+        r = survey_goal_reach(cell, [&](double t) { return arm.pose(t); });
+      }
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        fraction[i].push_back(r[i].reachable_fraction());
+        window[i].push_back(r[i].longest_window_s);
+        if (r[i].reachable == 0) never[i].push_back(seed);
+      }
+    }
+    std::printf(
+        "  %s: diode        reachable %% of the run: min / p50   longest window s: min / p50"
+        "   never in reach (seeds)\n",
+        carrier.c_str());
+    nlohmann::json c;
+    for (std::size_t i = 0; i < cell.diodes.size(); ++i) {
+      std::string nv;
+      for (int sd : never[i]) nv += (nv.empty() ? "" : ",") + std::to_string(sd);
+      std::printf("    %-12s %5.0f / %5.0f   %6.1f / %6.1f   %s\n", cell.diodes[i].name.c_str(),
+                  100.0 * percentile(fraction[i], 0), 100.0 * percentile(fraction[i], 50),
+                  percentile(window[i], 0), percentile(window[i], 50),
+                  nv.empty() ? "-" : nv.c_str());
+      c[cell.diodes[i].name] = {
+          {"reachable_fraction",
+           {{"min", percentile(fraction[i], 0)}, {"p50", percentile(fraction[i], 50)}}},
+          {"longest_window_s",
+           {{"min", percentile(window[i], 0)}, {"p50", percentile(window[i], 50)}}},
+          {"never_reachable_seeds", never[i]}};
+    }
+    out[carrier] = c;
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ephor-bench-rambo: task ordering, prediction and pose figures of the RAMBO core"};
   std::string json_path;
   unsigned seed = 1;
-  int poses = 50, seeds = 10;
+  int poses = 50, seeds = 10, reach_seeds = 20;
+  std::string sections = "ordering,reaching,prediction,pose,live-prediction,reach";
+  std::string model_path = "deploy/rambo/target.pbtxt";
   app.add_option("--json", json_path, "write the figures to this JSON file");
   app.add_option("--seed", seed, "first random seed");
   app.add_option("--poses", poses, "images for the pose benchmark")->check(CLI::Range(1, 100000));
   app.add_option("--seeds", seeds, "targets per ordering size and for prediction")
+      ->check(CLI::Range(1, 10000));
+  app.add_option("--sections", sections,
+                 "comma-separated sections to run (default all: ordering,reaching,prediction,pose,"
+                 "live-prediction,reach)");
+  app.add_option("--model", model_path,
+                 "target model file for the reach section (default deploy/rambo/target.pbtxt)");
+  app.add_option("--reach-seeds", reach_seeds,
+                 "seeds for the reach and live-prediction sections (default 20)")
       ->check(CLI::Range(1, 10000));
   try {
     app.parse(argc, argv);
@@ -420,10 +599,21 @@ int main(int argc, char** argv) {
   j["paper"] = {{"pose_s_cm2_16k", 1.0},
                 {"dp_trajectories_4_tasks", 32},
                 {"exhaustive_trajectories_4_tasks", 64}};
-  j["ordering"] = bench_ordering(seeds, seed);
-  j["reaching"] = bench_reaching();
-  j["prediction"] = bench_prediction(seeds, seed);
-  j["pose"] = bench_pose(poses, seed);
+  auto wanted = [&](const std::string& name) {
+    return ("," + sections + ",").find("," + name + ",") != std::string::npos;
+  };
+  if (wanted("ordering")) j["ordering"] = bench_ordering(seeds, seed);
+  if (wanted("reaching")) j["reaching"] = bench_reaching();
+  if (wanted("prediction")) j["prediction"] = bench_prediction(seeds, seed);
+  if (wanted("pose")) j["pose"] = bench_pose(poses, seed);
+  try {
+    if (wanted("live-prediction"))
+      j["live_prediction"] = bench_live_prediction(model_path, reach_seeds);
+    if (wanted("reach")) j["reach"] = bench_reach(model_path, reach_seeds);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ephor-bench-rambo: %s\n", e.what());
+    return 2;
+  }
   if (!json_path.empty()) {
     std::ofstream f(json_path);
     if (!f) {

@@ -48,7 +48,7 @@ EPHOR_TO_JSON(rambo_pose_t, utime, header, frame_index, found, reason, target_r,
               features_source, camera_r, camera_t_mm, num_matched_triangles, matched_triangles_px,
               matched_triangle_vertices)
 EPHOR_TO_JSON(rambo_truth_t, utime, header, frame_index, target_r, target_t_mm, camera_r,
-              camera_t_mm, body_rates_rad_s)
+              camera_t_mm, body_rates_rad_s, carrier_points, carrier_mm)
 EPHOR_TO_JSON(rambo_plan_t, utime, header, num_tasks, order, current_task, status,
               greedy_trajectories, exhaustive_trajectories, dp_trajectories, order_total_s,
               goals_sent)
@@ -57,7 +57,8 @@ EPHOR_TO_JSON(rambo_indicator_t, utime, header, num_diodes, lit_diode, lit_s, ta
               beam_offset_mm)
 EPHOR_TO_JSON(rambo_prediction_t, utime, header, fitted, reason, model, ref_utime, samples,
               position_mm, velocity_mm_s, orientation_wxyz, body_rates_rad_s, principal_moments,
-              position_sigma_mm, rotation_sigma_rad, rms_rotation_residual_rad)
+              position_sigma_mm, rotation_sigma_rad, rms_rotation_residual_rad, poly_terms,
+              poly_rotation, poly_t_mid_s, poly_t_scale_s, poly_r_mid_wxyz, poly_coeff)
 }  // namespace ephor
 
 namespace {
@@ -147,6 +148,11 @@ int main(int argc, char** argv) {
       t.frame_index = m.frame_index;
       t.target_in_base = pose_of(m.target_r, m.target_t_mm);
       t.camera_in_base = pose_of(m.camera_r, m.camera_t_mm);
+      for (const auto& p : m.carrier_mm) {
+        const Eigen::Vector3d v(p.at(0), p.at(1), p.at(2));
+        if (!v.allFinite()) return;
+        t.carrier_mm.push_back(v);
+      }
       if (finite(t.target_in_base) && finite(t.camera_in_base)) state.on_truth(t);
     });
     server.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&](const rambo_plan_t& m) {

@@ -145,6 +145,9 @@ nlohmann::json RamboDisplayState::state() const {
   if (truth_) {
     nlohmann::json tr = pose_json(truth_->target_in_base);
     tr["frame_index"] = truth_->frame_index;
+    nlohmann::json chain = nlohmann::json::array();
+    for (const Eigen::Vector3d& p : truth_->carrier_mm) chain.push_back(vec_json(p, 1));
+    tr["carrier_mm"] = chain;
     pose["true"] = tr;
     pose["camera"] = pose_json(truth_->camera_in_base);
   } else {

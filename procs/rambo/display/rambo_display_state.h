@@ -58,6 +58,10 @@ struct TruthView {
   int64_t frame_index = -1;
   Eigen::Isometry3d target_in_base = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d camera_in_base = Eigen::Isometry3d::Identity();
+  // The RM-501 carrying the target (--carrier rm501), its links as a chain
+  // of points in base (mm): waist foot, shoulder, elbow, wrist, flange,
+  // target origin. Empty for the free-floating target.
+  std::vector<Eigen::Vector3d> carrier_mm;
 };
 
 // rambo_plan_t.

@@ -51,6 +51,8 @@ TEST(RamboDisplayState, StateCarriesImagePosesOrderAndTaggedDiodes) {
   truth.utime = 1000;
   truth.frame_index = 7;
   truth.target_in_base = target_pose();
+  truth.carrier_mm = {{1400, 0, -340}, {1400, 0, -90}, {1290, 0, 100},
+                      {1130, 0, 100},  {1030, 0, 100}, {830, 0, 100}};  // the RM-501's chain
   s.on_truth(truth);
   FeaturesView f;
   f.frame_index = 7;
@@ -88,6 +90,8 @@ TEST(RamboDisplayState, StateCarriesImagePosesOrderAndTaggedDiodes) {
   EXPECT_NEAR(j["pose"]["estimated"]["error_mm"].get<double>(), 3.0, 1e-6);
   EXPECT_NEAR(j["pose"]["estimated"]["error_deg"].get<double>(), 0.0, 1e-6);
   EXPECT_NEAR(j["pose"]["true"]["t_mm"][2].get<double>(), 800.0, 1e-9);
+  ASSERT_EQ(j["pose"]["true"]["carrier_mm"].size(), 6u);
+  EXPECT_NEAR(j["pose"]["true"]["carrier_mm"][2][0].get<double>(), 1290.0, 1e-9);
   EXPECT_NEAR(j["pose"]["estimated"]["t_mm"][0].get<double>(), 23.0, 1e-9);
   const rambo::RamboCell cell = rambo::RamboCell::make(4);
   ASSERT_EQ(j["plan"]["order"].size(), 3u);

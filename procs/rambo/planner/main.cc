@@ -34,6 +34,7 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
+#include "common/rambo/prediction_message.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/tagging_planner.h"
@@ -130,25 +131,16 @@ int main(int argc, char** argv) {
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
           if (!m.fitted) return;
-          FittedMotion f;
-          f.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
-          f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-          f.velocity_mm_s =
-              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
-          f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
-                                             m.orientation_wxyz[2], m.orientation_wxyz[3]);
-          f.body_rates_rad_s =
-              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
-          f.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
-                                                m.principal_moments[2]);
-          if (!f.finite()) {
+          std::string why;
+          const std::optional<FittedMotion> f =
+              motion_from_message(m, static_cast<double>(m.ref_utime) * 1e-6, &why);
+          if (!f) {
             ++bad;
-            spdlog::warn("RAMBO_PREDICTION from {} ignored: not finite", m.header.sender);
+            spdlog::warn("RAMBO_PREDICTION from {} ignored: {}", m.header.sender, why);
             return;
           }
-          f.orientation.normalize();
           std::lock_guard<std::mutex> lock(mutex);
-          motion = f;
+          motion = *f;
           motion_utime = m.ref_utime;
         });
     bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {

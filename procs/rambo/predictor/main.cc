@@ -3,6 +3,13 @@
 // momenta, RigidBodyPosePredictor, fitted to the last --window-s of poses).
 // Publishes the fitted state, from which any later pose follows.
 //
+// The model follows what moves the target (--carrier, from the manifest): a
+// free-floating tumble is a rigid body with constant momenta; a target
+// carried by the RM-501 is not (its joints swing it), so it gets the paper's
+// polynomial fits of the six pose coordinates (PolynomialPosePredictor:
+// --poly-degree in rotation-vector coordinates over --poly-window-s), whose
+// coefficients the message carries. --motion-model overrides the choice.
+//
 //   subscribes  RAMBO_POSE (rambo_pose_t)
 //   publishes   RAMBO_PREDICTION (rambo_prediction_t), after every usable pose
 //   tasks       fit (triggered by RAMBO_POSE)
@@ -24,6 +31,8 @@
 #include "common/lcm/bus.h"
 #include "common/lcm/mailbox.h"
 #include "common/log/log.h"
+#include "common/rambo/polynomial_pose_predictor.h"
+#include "common/rambo/prediction_message.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/rigid_body_pose_predictor.h"
@@ -56,6 +65,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
   app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
+  std::string carrier = "free", motion_model = "auto";
+  int poly_degree = 1;
+  double poly_window_s = 2.0;
+  app.add_option("--carrier", carrier,
+                 "what moves the target: free (a rigid-body fit) or rm501 (the polynomial fits)")
+      ->check(CLI::IsMember({"free", "rm501"}));
+  app.add_option("--motion-model", motion_model,
+                 "auto (by --carrier), rigid-body or polynomial (default auto)")
+      ->check(CLI::IsMember({"auto", "rigid-body", "polynomial"}));
+  app.add_option("--poly-degree", poly_degree,
+                 "degree of the polynomial fits, rotation-vector coordinates (default 1)")
+      ->check(CLI::Range(0, 5));
+  app.add_option("--poly-window-s", poly_window_s,
+                 "the polynomial fits' window, s (default 2; the rigid body's is --window-s)")
+      ->check(CLI::Range(0.5, 120.0));
   std::string model_path;
   app.add_option(
       "--model", model_path,
@@ -66,7 +90,12 @@ int main(int argc, char** argv) {
 
   try {
     const RamboCell cell = cell_from_flags(model_path, 0);
-    RigidBodyPosePredictor predictor(cell.principal_moments);
+    const bool polynomial =
+        motion_model == "polynomial" || (motion_model == "auto" && carrier == "rm501");
+    RigidBodyPosePredictor rigid(cell.principal_moments);
+    PolynomialPosePredictor poly(poly_degree, RotationCoordinates::kRotationVector);
+    PosePredictor& predictor = polynomial ? static_cast<PosePredictor&>(poly) : rigid;
+    if (polynomial) window_s = poly_window_s;
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     Mailbox<rambo_pose_t> poses;
@@ -120,6 +149,7 @@ int main(int argc, char** argv) {
              static_cast<double>(m->utime - window.front().first) * 1e-6 > window_s)
         window.pop_front();
       rambo_prediction_t out{};
+      no_polynomial(&out);
       out.utime = wall_us();
       out.model = predictor.name();
       out.ref_utime = m->utime;
@@ -147,11 +177,23 @@ int main(int argc, char** argv) {
       const Eigen::Vector3d v =
           predictor.predict(t_ref + 1.0).pose.translation() - now.pose.translation();
       const Eigen::Quaterniond q(now.pose.linear());
+      // The polynomial's body rates at t_ref (for the page and a reader that
+      // takes the rigid-body fields): R^T R' by a central difference of 10 ms.
+      Eigen::Vector3d w = Eigen::Vector3d::Zero();
+      if (polynomial) {
+        const Eigen::AngleAxisd d(predictor.predict(t_ref - 0.005).pose.linear().transpose() *
+                                  predictor.predict(t_ref + 0.005).pose.linear());
+        w = d.axis() * d.angle() / 0.01;
+        polynomial_to_message(poly.motion(), t_ref, &out);
+      } else {
+        w = rigid.body_rates_rad_s();
+        no_polynomial(&out);
+      }
       out.fitted = true;
       for (int k = 0; k < 3; ++k) {
         out.position_mm[k] = now.pose.translation()[k];
         out.velocity_mm_s[k] = v[k];
-        out.body_rates_rad_s[k] = predictor.body_rates_rad_s()[k];
+        out.body_rates_rad_s[k] = w[k];
         out.principal_moments[k] = cell.principal_moments[k];
       }
       out.orientation_wxyz[0] = q.w();
@@ -160,12 +202,17 @@ int main(int argc, char** argv) {
       out.orientation_wxyz[3] = q.z();
       out.position_sigma_mm = now.position_sigma_mm;
       out.rotation_sigma_rad = now.rotation_sigma_rad;
-      out.rms_rotation_residual_rad = predictor.rms_rotation_residual_rad();
+      out.rms_rotation_residual_rad = polynomial ? 0.0 : rigid.rms_rotation_residual_rad();
       bus.publish(rambo::channels::kPrediction, out);
     });
 
     runtime.start();
-    spdlog::info("ready: rigid-body fit over {} s, at least {} poses", window_s, min_samples);
+    if (polynomial)
+      spdlog::info(
+          "ready: polynomial fits (degree {}, rotation vector) over {} s, at least {} poses",
+          poly_degree, window_s, min_samples);
+    else
+      spdlog::info("ready: rigid-body fit over {} s, at least {} poses", window_s, min_samples);
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
     spdlog::info("summary: {} fits, {} failed, {} poses dropped", fits.load(), failures.load(),

@@ -53,6 +53,7 @@
 #include "common/rambo/diode_indicator.h"
 #include "common/rambo/image_triple.h"
 #include "common/rambo/pose_predictor.h"
+#include "common/rambo/prediction_message.h"
 #include "common/rambo/rambo_cell.h"
 #include "common/rambo/rambo_channels.h"
 #include "common/rambo/rm501_carrier.h"
@@ -147,6 +148,7 @@ struct World {
   std::vector<double> peer_err_mm, peer_err_deg, peer_ms, ours_err_mm, ours_err_deg, ours_ms;
   int64_t peer_poses = 0, peer_found = 0;
   int64_t poses = 0, poses_found = 0, predictions = 0, bad_messages = 0;
+  std::string prediction_model;  // the predictor's model (rambo_prediction_t.model), last seen
   std::deque<PendingPrediction> pending_predictions;
   std::vector<double> prediction_err_mm[3];
   std::vector<double> goal_prediction_err_mm[3];  // pooled over the goal points
@@ -253,7 +255,8 @@ struct World {
     j["goal_prediction_error_mm"] = ge;
     j["prediction_error_of"] =
         "the target frame's origin (prediction_error_mm) and every goal point "
-        "(goal_prediction_error_mm, pooled), rigid-body model";
+        "(goal_prediction_error_mm, pooled), by the predictor's model (prediction_model)";
+    j["prediction_model"] = prediction_model;
     if (first_order) {
       j["reaching_trajectories_computed"] = {{"greedy", first_order->greedy_trajectories},
                                              {"exhaustive", first_order->exhaustive_trajectories},
@@ -435,26 +438,17 @@ int main(int argc, char** argv) {
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&w](const rambo_prediction_t& m) {
           if (!m.fitted) return;
-          FittedMotion f;
-          f.t_ref_s = 0.0;
-          f.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-          f.velocity_mm_s =
-              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
-          f.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
-                                             m.orientation_wxyz[2], m.orientation_wxyz[3]);
-          f.body_rates_rad_s =
-              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
-          f.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
-                                                m.principal_moments[2]);
+          const std::optional<FittedMotion> f = motion_from_message(m, 0.0, nullptr);
           std::lock_guard<std::mutex> lock(w.mutex);
-          if (!f.finite()) {
+          if (!f) {
             ++w.bad_messages;
             return;
           }
           ++w.predictions;
+          w.prediction_model = m.model;
           const double t_ref = w.t_of(m.ref_utime);
           for (int h = 0; h < 3; ++h) {
-            const Eigen::Isometry3d pose = f.pose(kHorizonsS[h]);
+            const Eigen::Isometry3d pose = f->pose(kHorizonsS[h]);
             std::vector<Eigen::Vector3d> goals;
             for (int i = 0; i < w.indicator.size(); ++i)
               goals.push_back((pose * w.cell.goal_in_target(i)).translation());
@@ -510,10 +504,15 @@ int main(int argc, char** argv) {
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)), [&] {
       rambo_truth_t truth{};
       Eigen::Isometry3d target, camera;
+      std::vector<Eigen::Vector3d> carrier_chain;  // the RM-501's links, base, mm
       {
         std::lock_guard<std::mutex> lock(w.mutex);
         advance_to_now();
         target = w.target_at(w.clock_s);
+        if (w.carrier) {
+          const auto c = w.carrier->chain(w.clock_s);
+          carrier_chain.assign(c.begin(), c.end());
+        }
         camera = camera_in_base(w.servo.state().q);
         truth.utime = w.utime_of(w.clock_s);
         const Eigen::Vector3d rates = w.target_rates_at(w.clock_s);
@@ -522,7 +521,11 @@ int main(int argc, char** argv) {
         while (w.truth_by_utime.size() > 600) w.truth_by_utime.erase(w.truth_by_utime.begin());
       }
       const Eigen::Isometry3d in_camera = camera.inverse() * target;
-      renderer.render(in_camera, image);
+      std::vector<RenderedLink> links;
+      for (std::size_t k = 0; k + 1 < carrier_chain.size(); ++k)
+        links.push_back({camera.inverse() * carrier_chain[k],
+                         camera.inverse() * carrier_chain[k + 1], Rm501Carrier::kLinkRadiusMm[k]});
+      renderer.render(in_camera, image, links);
       camera_frame_t frame;
       frame.utime = truth.utime;
       frame.frame_index = w.frames;
@@ -534,6 +537,9 @@ int main(int argc, char** argv) {
       truth.frame_index = frame.frame_index;
       to_message(target, truth.target_r, truth.target_t_mm);
       to_message(camera, truth.camera_r, truth.camera_t_mm);
+      for (const Eigen::Vector3d& p : carrier_chain)
+        truth.carrier_mm.push_back({p.x(), p.y(), p.z()});
+      truth.carrier_points = static_cast<int32_t>(truth.carrier_mm.size());
       bus.publish(rambo::channels::kTruth, truth);
       // The oracle features (see the top of this file).
       rambo_features_t f;

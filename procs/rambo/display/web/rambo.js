@@ -81,7 +81,16 @@ function setup3d() {
     const beam = new THREE.Line(beamGeometry, new THREE.LineBasicMaterial({ color: 0xff2020 }));
     beam.visible = false;
     scene.add(beam);
-    three = { renderer, scene, cam, estimated, truth, diodes, camera, beam };
+    // The RM-501 carrying the target (--carrier rm501): one rod per link,
+    // placed from the truth's chain of points each update.
+    const carrier = [60, 40, 32, 25, 12].map((r) => {
+      const m = new THREE.Mesh(new THREE.CylinderGeometry(r, r, 1, 16),
+        new THREE.MeshLambertMaterial({ color: 0xd08a3a }));
+      m.visible = false;
+      scene.add(m);
+      return m;
+    });
+    three = { renderer, scene, cam, estimated, truth, diodes, camera, beam, carrier };
   } catch (e) {
     view.textContent = 'no WebGL here: ' + e;
   }
@@ -125,6 +134,18 @@ function update3d(s) {
     // Between the target and the arm's reach, towards the target.
     centre = [0.8 * p.true.t_mm[0], 0.8 * p.true.t_mm[1], 0.8 * p.true.t_mm[2] + 60];
   }
+  // The carrying arm's links: a unit cylinder (along y) stretched from one
+  // chain point to the next.
+  const chain = (p.true && p.true.carrier_mm) || [];
+  three.carrier.forEach((link, k) => {
+    if (k + 1 >= chain.length) { link.visible = false; return; }
+    const a = new THREE.Vector3(...chain[k]), b = new THREE.Vector3(...chain[k + 1]);
+    const d = new THREE.Vector3().subVectors(b, a);
+    link.scale.set(1, Math.max(d.length(), 1e-3), 1);
+    link.position.copy(a).addScaledVector(d, 0.5);
+    link.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), d.clone().normalize());
+    link.visible = true;
+  });
   if (p.camera) {
     three.camera.position.set(...p.camera.t_mm);
     three.camera.visible = true;
