@@ -327,10 +327,12 @@ nlohmann::json bench_prediction(int seeds, unsigned seed0) {
 // the RM-501 carrying it, seeds 1..N, model file's goal points) observed as
 // the live pose process sees them: 5 Hz, 0.8 mm and 0.3 deg noise (its p50
 // errors), a window of poses ending every 10 s from 10 to 110 s. Each motion
-// model predicts every goal point 0.5, 1 and 2 s past the window's last pose.
+// model predicts every goal point 0.5, 1, 2, 4 and 8 s past the window's
+// last pose (4 and 8 s: how long a prediction may stand in for poses while
+// the camera looks past the target).
 nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
   const RamboCell cell = cell_from_flags(model_path, 0);
-  const std::vector<double> horizons{0.5, 1.0, 2.0};
+  const std::vector<double> horizons{0.5, 1.0, 2.0, 4.0, 8.0};
   struct Model {
     std::string name;
     int degree;  // -1 = rigid body
@@ -342,8 +344,10 @@ nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
       {"quadratic ZYX (paper), 4 s", 2, RotationCoordinates::kZyxAngles, 4.0},
       {"linear rot-vector, 2 s", 1, RotationCoordinates::kRotationVector, 2.0},
       {"linear rot-vector, 4 s", 1, RotationCoordinates::kRotationVector, 4.0},
+      {"quadratic rot-vector, 3 s", 2, RotationCoordinates::kRotationVector, 3.0},
       {"quadratic rot-vector, 4 s", 2, RotationCoordinates::kRotationVector, 4.0},
-      {"quadratic rot-vector, 8 s", 2, RotationCoordinates::kRotationVector, 8.0},
+      {"quadratic rot-vector, 6 s", 2, RotationCoordinates::kRotationVector, 6.0},
+      {"cubic rot-vector, 6 s", 3, RotationCoordinates::kRotationVector, 6.0},
       {"cubic rot-vector, 8 s", 3, RotationCoordinates::kRotationVector, 8.0}};
   nlohmann::json out;
   std::printf(
@@ -407,8 +411,9 @@ nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
         }
       }
     }
-    std::printf("  %s:%*s   0.5 s            1 s              2 s\n", carrier.c_str(),
-                static_cast<int>(28 - carrier.size()), "");
+    std::printf(
+        "  %s:%*s   0.5 s            1 s              2 s              4 s              8 s\n",
+        carrier.c_str(), static_cast<int>(28 - carrier.size()), "");
     nlohmann::json c;
     for (std::size_t k = 0; k < models.size(); ++k) {
       std::printf("    %-28s", models[k].name.c_str());

@@ -67,7 +67,8 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "planner");
   int diodes = 4;
-  double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 3.0;
+  double period_ms = 200.0, duration_s = 0.0, max_prediction_age_s = 3.0,
+         max_rigid_prediction_age_s = 8.0;
   TaggingOptions options;
   double arrive_rad = 0.03, resend_rad = 0.1;
   std::string model_path;
@@ -81,7 +82,14 @@ int main(int argc, char** argv) {
   app.add_option("--lead-s", options.lead_s, "aim at the goal this far ahead, s (default 0.3)")
       ->check(CLI::Range(0.0, 5.0));
   app.add_option("--max-prediction-age-s", max_prediction_age_s,
-                 "no goals from a prediction older than this, s (default 3)")
+                 "no goals from a polynomial prediction older than this, s (default 3)")
+      ->check(CLI::Range(0.1, 60.0));
+  // A rigid body with constant momenta extrapolates far better than a
+  // polynomial (ephor-bench-rambo --sections live-prediction): keeping it
+  // lets the arm go on tagging while the camera on the tool looks past the
+  // target, instead of going back to the viewing pose after 3 s.
+  app.add_option("--max-rigid-prediction-age-s", max_rigid_prediction_age_s,
+                 "the same for a rigid-body prediction, s (default 8)")
       ->check(CLI::Range(0.1, 60.0));
   app.add_option("--arrive-rad", arrive_rad,
                  "the arm is at its goal within this, rad: refresh the goal every period (0.03)");
@@ -175,7 +183,8 @@ int main(int argc, char** argv) {
             plan.current_task = -1;
             if (!motion || !q_now) {
               plan.status = "waiting for a prediction and the arm";
-            } else if (static_cast<double>(now - motion_utime) * 1e-6 > max_prediction_age_s) {
+            } else if (static_cast<double>(now - motion_utime) * 1e-6 >
+                       (motion->polynomial ? max_prediction_age_s : max_rigid_prediction_age_s)) {
               plan.status = "prediction too old";
               // The camera is on the tool: after a reach that lost the
               // target (a wrong pose, or the tumble turning it away) no

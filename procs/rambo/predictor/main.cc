@@ -7,8 +7,11 @@
 // free-floating tumble is a rigid body with constant momenta; a target
 // carried by the RM-501 is not (its joints swing it), so it gets the paper's
 // polynomial fits of the six pose coordinates (PolynomialPosePredictor:
-// --poly-degree in rotation-vector coordinates over --poly-window-s), whose
-// coefficients the message carries. --motion-model overrides the choice.
+// --poly-degree over --poly-window-s, the rotation as the paper's three
+// angles or a rotation vector), whose coefficients the message carries.
+// --motion-model overrides the choice. The defaults (quadratic in the ZYX
+// angles over 4 s) are the best of ephor-bench-rambo --sections
+// live-prediction for the RM-501's motion at 0.5-2 s.
 //
 //   subscribes  RAMBO_POSE (rambo_pose_t)
 //   publishes   RAMBO_PREDICTION (rambo_prediction_t), after every usable pose
@@ -66,20 +69,24 @@ int main(int argc, char** argv) {
   app.add_option("--max-jump-mm", max_jump_mm, "drop a pose this far from the fit, mm (40)");
   app.add_option("--max-jump-deg", max_jump_deg, "or turned this far from it, deg (15)");
   std::string carrier = "free", motion_model = "auto";
-  int poly_degree = 1;
-  double poly_window_s = 2.0;
+  int poly_degree = 2;
+  double poly_window_s = 4.0;
+  std::string poly_rotation = "zyx";
   app.add_option("--carrier", carrier,
                  "what moves the target: free (a rigid-body fit) or rm501 (the polynomial fits)")
       ->check(CLI::IsMember({"free", "rm501"}));
   app.add_option("--motion-model", motion_model,
                  "auto (by --carrier), rigid-body or polynomial (default auto)")
       ->check(CLI::IsMember({"auto", "rigid-body", "polynomial"}));
-  app.add_option("--poly-degree", poly_degree,
-                 "degree of the polynomial fits, rotation-vector coordinates (default 1)")
+  app.add_option("--poly-degree", poly_degree, "degree of the polynomial fits (default 2)")
       ->check(CLI::Range(0, 5));
   app.add_option("--poly-window-s", poly_window_s,
-                 "the polynomial fits' window, s (default 2; the rigid body's is --window-s)")
+                 "the polynomial fits' window, s (default 4; the rigid body's is --window-s)")
       ->check(CLI::Range(0.5, 120.0));
+  app.add_option("--poly-rotation", poly_rotation,
+                 "the rotation's three coordinates: zyx (the paper's yaw, pitch, roll; default) or "
+                 "rotation-vector")
+      ->check(CLI::IsMember({"zyx", "rotation-vector"}));
   std::string model_path;
   app.add_option(
       "--model", model_path,
@@ -93,7 +100,9 @@ int main(int argc, char** argv) {
     const bool polynomial =
         motion_model == "polynomial" || (motion_model == "auto" && carrier == "rm501");
     RigidBodyPosePredictor rigid(cell.principal_moments);
-    PolynomialPosePredictor poly(poly_degree, RotationCoordinates::kRotationVector);
+    PolynomialPosePredictor poly(poly_degree, poly_rotation == "zyx"
+                                                  ? RotationCoordinates::kZyxAngles
+                                                  : RotationCoordinates::kRotationVector);
     PosePredictor& predictor = polynomial ? static_cast<PosePredictor&>(poly) : rigid;
     if (polynomial) window_s = poly_window_s;
     Bus bus(args.lcm_url, args.name);
@@ -209,8 +218,8 @@ int main(int argc, char** argv) {
     runtime.start();
     if (polynomial)
       spdlog::info(
-          "ready: polynomial fits (degree {}, rotation vector) over {} s, at least {} poses",
-          poly_degree, window_s, min_samples);
+          "ready: polynomial fits (degree {}, rotation as {}) over {} s, at least {} poses",
+          poly_degree, poly_rotation, window_s, min_samples);
     else
       spdlog::info("ready: rigid-body fit over {} s, at least {} poses", window_s, min_samples);
     wait_for_shutdown_signal(duration_s);
