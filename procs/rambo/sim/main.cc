@@ -374,8 +374,23 @@ int main(int argc, char** argv) {
     auto camera_in_base = [&w](const arm::Joints& q) {
       return w.arm.forward(q) * w.cell.camera_in_tool;
     };
+    // The carrying arm's links in the camera frame (none for the free target).
+    auto links_in_camera = [](const std::vector<Eigen::Vector3d>& chain,
+                              const Eigen::Isometry3d& camera) {
+      std::vector<RenderedLink> links;
+      for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+        links.push_back({camera.inverse() * chain[k], camera.inverse() * chain[k + 1],
+                         Rm501Carrier::kLinkRadiusMm[k]});
+      return links;
+    };
     if (!png_path.empty()) {
-      renderer.render(camera_in_base(cell.start_joints).inverse() * w.target_at(0.0), image);
+      std::vector<Eigen::Vector3d> chain;
+      if (w.carrier) {
+        const auto c = w.carrier->chain(0.0);
+        chain.assign(c.begin(), c.end());
+      }
+      const Eigen::Isometry3d camera0 = camera_in_base(cell.start_joints);
+      renderer.render(camera0.inverse() * w.target_at(0.0), image, links_in_camera(chain, camera0));
       cv::imwrite(png_path, image);
       spdlog::info("wrote {}", png_path);
       return 0;
@@ -521,11 +536,7 @@ int main(int argc, char** argv) {
         while (w.truth_by_utime.size() > 600) w.truth_by_utime.erase(w.truth_by_utime.begin());
       }
       const Eigen::Isometry3d in_camera = camera.inverse() * target;
-      std::vector<RenderedLink> links;
-      for (std::size_t k = 0; k + 1 < carrier_chain.size(); ++k)
-        links.push_back({camera.inverse() * carrier_chain[k],
-                         camera.inverse() * carrier_chain[k + 1], Rm501Carrier::kLinkRadiusMm[k]});
-      renderer.render(in_camera, image, links);
+      renderer.render(in_camera, image, links_in_camera(carrier_chain, camera));
       camera_frame_t frame;
       frame.utime = truth.utime;
       frame.frame_index = w.frames;
