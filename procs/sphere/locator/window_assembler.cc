@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace ephor::sphere {
@@ -43,6 +44,10 @@ std::string WindowAssembler::add(const LineMessage& m) {
   for (size_t i = 0; i < n; ++i) {
     const std::string at = "line " + std::to_string(m.line) + " pulse " + std::to_string(i) + ": ";
     if (!std::isfinite(m.t_s[i]) || m.t_s[i] < 0.0) return refuse(at + "time not finite or < 0");
+    // Beyond it the window index would leave int64's range (UB): 3 years of
+    // a ranger's scan clock (s since it started).
+    if (m.t_s[i] > kMaxScanTimeS)
+      return refuse(at + "time beyond " + std::to_string(kMaxScanTimeS) + " s of scan clock");
     if (i > 0 && m.t_s[i] < m.t_s[i - 1]) return refuse(at + "time goes backwards");
     if (!(std::abs(m.azimuth_rad[i]) <= M_PI) || !(std::abs(m.elevation_rad[i]) <= M_PI)) {
       return refuse(at + "angle not finite or beyond +-pi");
@@ -105,9 +110,14 @@ AssembledWindow WindowAssembler::finish(int64_t k, Open& w) const {
   AssembledWindow a;
   a.index = k;
   a.lines_received = w.lines;
+  // In double and clamped: a corrupt line counter far from the others made
+  // the span overflow int and the count negative (fuzz_sphere_scan_line), and
+  // counters 2^63 apart would overflow int64.
+  const double span = static_cast<double>(w.max_line) - static_cast<double>(w.min_line) + 1.0;
   a.lines_missing =
-      w.lines > 0 ? static_cast<int>(std::max<int64_t>(0, w.max_line - w.min_line + 1 - w.lines))
-                  : 0;
+      w.lines > 0
+          ? static_cast<int>(std::clamp(span - w.lines, 0.0, static_cast<double>(INT32_MAX)))
+          : 0;
   a.window = std::move(w.window);
   return a;
 }

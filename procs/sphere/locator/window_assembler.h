@@ -3,8 +3,8 @@
 // [kW, (k+1)W) of the scan clock (issue 15: "every half second, from the
 // newest half-second of lines"), checking every line on the way in: a line
 // with non-finite or backward times, angles beyond +-pi, a negative range,
-// or arrays whose lengths disagree with its count is refused with the
-// reason, never passed on.
+// or arrays whose lengths disagree with its count, or a time beyond
+// kMaxScanTimeS, is refused with the reason, never passed on.
 //
 // A window is complete when the ranger says its last line has come
 // (last_in_window, with the same window length) or when a pulse of a later
@@ -61,6 +61,8 @@ class WindowAssembler {
   // kRestartWindows windows (a restarted ranger): the assembler starts over.
   int64_t restarts() const { return restarts_; }
   static constexpr int64_t kRestartWindows = 4;
+  // Pulse times beyond this (s of scan clock, 3 years) are refused.
+  static constexpr double kMaxScanTimeS = 1e8;
 
  private:
   struct Open {

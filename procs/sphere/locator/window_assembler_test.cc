@@ -1,6 +1,8 @@
 #include "procs/sphere/locator/window_assembler.h"
 
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -110,6 +112,30 @@ TEST(WindowAssembler, RefusesBadLinesWithTheReason) {
   m.range_m[0] = std::nan("");
   EXPECT_EQ(a.add(m), "");
   EXPECT_EQ(a.flush().size(), 1u);
+}
+
+// Found by fuzz_sphere_scan_line (its corpus keeps the inputs): a line
+// counter with a bit flipped, far from its window's others, made the count
+// of missing lines overflow int (negative); a time of 1e300 s made the window
+// index leave int64's range (UB).
+TEST(WindowAssembler, CorruptCountersAndTimesDoNotOverflow) {
+  WindowAssembler a(0.5);
+  EXPECT_EQ(a.add(line(0, 0.0, 10)), "");
+  EXPECT_EQ(a.add(line(int64_t{1} << 62, 0.1, 10)), "");
+  EXPECT_EQ(a.add(line(INT64_MAX, 0.2, 10)), "");
+  EXPECT_EQ(a.add(line(INT64_MIN, 0.3, 10, 0, true)), "");
+  a.add(line(5, 0.6, 10, 1));
+  const auto done = a.take_complete();
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_EQ(done[0].lines_received, 4);
+  EXPECT_EQ(done[0].lines_missing, INT32_MAX);  // saturated
+
+  WindowAssembler b(0.5);
+  LineMessage far = line(0, 0.0, 2);
+  far.t_s[1] = 1e300;
+  EXPECT_NE(b.add(far).find("time beyond"), std::string::npos);
+  far.t_s[1] = WindowAssembler::kMaxScanTimeS;
+  EXPECT_EQ(b.add(far), "");
 }
 
 TEST(WindowAssembler, RefusesANonsenseWindowLength) {
