@@ -191,6 +191,7 @@ CatchLoopResult CatchLoop::run() {
       p.sigma_mm = f.exit.sigma_exit_x_mm;
       if (cover) e.cover_fraction = f.spread.cover_fraction;
       if (cover) {
+        p.sigma_mm = f.spread.exit_x_sd_mm;
         p.catch_point_w_mm = f.spread.cover_point_w_mm;
         p.catch_utime = f.cover_catch_utime;
       }

@@ -67,7 +67,7 @@ struct CatchLoopOptions {
   // Feed the world model the ball centre's true projection (the vision's
   // ceiling), not the vision's centroid.
   bool true_centre = false;
-  PrimMode prim = PrimMode::kPrediction;
+  PrimMode prim = PrimMode::kCover;
   PrimTuning tuning;
   // acquire_max_y_mm is set to ephor-catch-worldmodel's 150 mm.
   BallWorldModelParams model;

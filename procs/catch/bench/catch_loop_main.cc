@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   using namespace ephor;
   using namespace ephor::catching;
   CLI::App app{"ephor-catch-loop: the catching system in simulated time, caught of reachable"};
-  std::string seeds_text = "1-5", json_path, prim = "prediction";
+  std::string seeds_text = "1-5", json_path, prim = "cover";
   std::string board_path = "deploy/catch/board.pbtxt",
               workcell_path = "deploy/catch/workcell.pbtxt";
   CatchLoopOptions o;
@@ -72,9 +72,10 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds_text, "seeds: S, A-B or a list S1,S2 (default 1-5)");
   app.add_option("--balls", o.balls, "balls per seed (default 20)")->check(CLI::Range(1, 10000));
   app.add_option("--prim", prim,
-                 "prediction (ephor-catch-prim on the world model's prediction), cover (the same "
-                 "aimed at the cover of the prediction's spread) or oracle (the true catch point "
-                 "at release)")
+                 "cover (ephor-catch-prim on the cover of the prediction's spread, as "
+                 "deploy/catch.pbtxt runs it; the default), prediction (on the mean's prediction: "
+                 "the world model without --spread-samples) or oracle (the true catch point at "
+                 "release)")
       ->check(CLI::IsMember({"prediction", "cover", "oracle"}));
   app.add_option("--spread-samples", o.model.spread.samples,
                  "--prim cover: states drawn for the exit's spread (default 32)")
@@ -92,6 +93,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1000.0));
   app.add_option("--freeze-ms", o.tuning.freeze_ms, "Prim: ephor-catch-prim's flag")
       ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--move-s-per-sqrt-mm", o.tuning.move_s_per_sqrt_mm,
+                 "Prim: ephor-catch-prim's flag (commit late; 0 = off)")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--max-sigma-mm", o.tuning.max_sigma_mm,
+                 "Prim: ephor-catch-prim's flag (with --prim cover the sigma is the spread's)")
+      ->check(CLI::Range(0.0, 100000.0));
+  app.add_option("--commit-margin-s", o.tuning.commit_margin_s, "Prim: ephor-catch-prim's flag")
+      ->check(CLI::Range(0.0, 10.0));
   app.add_option("--hold-ms", o.tuning.hold_ms, "Prim: ephor-catch-prim's flag")
       ->check(CLI::Range(0.0, 10000.0));
   double perception_ms = 1e3 * o.perception_latency_s, command_ms = 1e3 * o.command_latency_s,

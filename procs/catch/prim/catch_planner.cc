@@ -26,6 +26,10 @@ const char* to_string(GoalReason reason) {
       return "holding";
     case GoalReason::kFrozen:
       return "frozen";
+    case GoalReason::kWaiting:
+      return "waiting";
+    case GoalReason::kOutOfTime:
+      return "out of time";
   }
   return "?";
 }
@@ -45,13 +49,15 @@ CatchPlannerParams CatchPlannerParams::for_board(const BoardSpec& board,
 CatchPlannerParams PrimTuning::apply(CatchPlannerParams p) const {
   p.freeze_before_catch_s = freeze_ms / 1e3;
   p.hold_after_catch_us = static_cast<int64_t>(hold_ms * 1e3);
-  p.max_sigma_mm = 150.0;
+  p.max_sigma_mm = max_sigma_mm;
   p.commit_ahead_s = commit_ahead_s;
   p.min_interval_us = static_cast<int64_t>(reaim_ms * 1e3);
   p.resend_min_mm = resend_mm;
   p.resend_sigma_fraction = 0.5;
   p.refresh_min_mm = std::min(5.0, resend_mm);
   p.refresh_period_us = 200'000;
+  p.move_s_per_sqrt_mm = move_s_per_sqrt_mm;
+  p.commit_margin_s = commit_margin_s;
   return p;
 }
 
@@ -71,7 +77,8 @@ CatchPlanner::CatchPlanner(const BoardSpec& board, const BoardPlacement& placeme
   if (!(params.resend_min_mm >= 0.0) || !(params.resend_sigma_fraction >= 0.0) ||
       !(params.refresh_min_mm >= 0.0) || params.refresh_period_us < 0 ||
       params.min_interval_us < 0 || params.hold_after_catch_us < 0 ||
-      !(params.freeze_before_catch_s >= 0.0)) {
+      !(params.freeze_before_catch_s >= 0.0) || !(params.move_s_per_sqrt_mm >= 0.0) ||
+      !(params.commit_margin_s >= 0.0)) {
     throw std::invalid_argument("CatchPlanner: thresholds and intervals must be >= 0");
   }
 }
@@ -137,6 +144,18 @@ CatchGoal CatchPlanner::step(int64_t now_utime, const std::optional<CatchPredict
         goal.time_to_catch_s < params_.freeze_before_catch_s) {
       goal.reason = GoalReason::kFrozen;
       due = GoalReason::kUnchanged;
+    }
+    if (params_.move_s_per_sqrt_mm > 0.0) {
+      goal.move_time_s = params_.move_s_per_sqrt_mm * std::sqrt((clamped - cup_w_mm).norm());
+      if (due == GoalReason::kCatch &&
+          goal.time_to_catch_s > goal.move_time_s + params_.commit_margin_s) {
+        goal.reason = GoalReason::kWaiting;
+        due = GoalReason::kUnchanged;
+      } else if ((due == GoalReason::kRefined || due == GoalReason::kRefreshed) &&
+                 goal.move_time_s > goal.time_to_catch_s) {
+        goal.reason = GoalReason::kOutOfTime;
+        due = GoalReason::kUnchanged;
+      }
     }
     if (due != GoalReason::kUnchanged) {
       goal = send(now_utime, clamped, due, goal);

@@ -64,6 +64,19 @@ struct CatchPlannerParams {
   // No re-aim (kRefined, kRefreshed) for a catch closer than this, s; the
   // first goal for a ball still goes. 0 = re-aim until the catch.
   double freeze_before_catch_s = 0.0;
+  // Commit late (move_s_per_sqrt_mm > 0). The arm's time to move the cup a
+  // distance d (mm) from rest, as move_s_per_sqrt_mm * sqrt(d) s: ephor-arm's
+  // plans for the PUMA 560 in the catching cell are acceleration-limited by
+  // the joints (CatchCell::plan_move from the ready point, seeds 1-3: 0.27-0.29
+  // s for 10 mm, 0.49-0.52 s for 30 mm, 0.88-0.96 s for 100 mm, 1.67-2.05 s
+  // for 400 mm: 0.089 s/sqrt(mm)), so a re-aim costs as much as a move and
+  // every later prediction is better than an earlier one. The first goal for
+  // a ball waits (kWaiting) until the predicted catch is no further ahead
+  // than the move time from the cup to the predicted point plus
+  // commit_margin_s; a re-aim goes only if that time still fits before the
+  // catch (else kOutOfTime). 0 = no model: chase at once.
+  double move_s_per_sqrt_mm = 0.0;
+  double commit_margin_s = 0.1;
 
   // Defaults for a board: the box spans the board's width plus 100 mm on
   // each side (y of W), from 50 mm behind to 350 mm in front of the bottom
@@ -73,25 +86,41 @@ struct CatchPlannerParams {
 };
 
 // ephor-catch-prim's flags (--commit-ahead-s, --reaim-ms, --hold-ms,
-// --resend-mm, --freeze-ms) and their defaults, as one value the process and
-// the closed-loop harness (procs/catch/bench) share.
+// --resend-mm, --freeze-ms, --max-sigma-mm, --move-s-per-sqrt-mm,
+// --commit-margin-s) and their defaults, as one value the process and the
+// closed-loop harness (procs/catch/bench) share.
 //
-// Each goal makes ephor-arm plan a new motion from wherever the arm is, and
-// the first predictions of a ball are poor (its velocity is not yet known,
-// pegs lie ahead): chase a prediction once it is within 150 mm (1 sigma) and
-// at most commit_ahead_s ahead, re-aim at most every reaim_ms (the arm plans
-// each new goal from rest, so every re-aim costs it time), for a change of
-// at least resend_mm or half a sigma; no re-aim within freeze_ms of the
-// catch. After a ball the cup goes back to the ready point hold_ms after the
-// predicted catch: soon, because the move back takes up to a second and the
-// arm moving in view while the next ball is released hides that ball from
-// the vision (measured: 4 of 10 balls of seed 2 never tracked with 500 ms).
+// Each goal makes ephor-arm plan a new motion from rest wherever the arm is
+// (a re-aim brakes it), and the arm is slow for short moves (0.5 s for 30
+// mm): so commit late (move_s_per_sqrt_mm: the first goal for a ball goes
+// when the modelled move from the cup just fits before the predicted catch,
+// on the newest prediction; a re-aim only while it still fits), chase a
+// prediction only while its sigma is under max_sigma_mm (with the world
+// model's --spread-samples, the standard deviation of the sampled exits: a
+// spread this wide is a guess, and the ready point hedges it best), re-aim
+// at most every reaim_ms for a change of at least resend_mm or half a
+// sigma; no re-aim within freeze_ms of the catch. After a ball the cup goes
+// back to the ready point hold_ms after the predicted catch: soon, because
+// the move back takes up to a second and the arm moving in view while the
+// next ball is released hides that ball from the vision (measured: 4 of 10
+// balls of seed 2 never tracked with 500 ms).
+//
+// The defaults were chosen in ephor-catch-loop (seeds 1-5 x 20 balls, the
+// world model with --spread-samples 32), 2026-11-28: caught of
+// oracle_reachable 19/54 chasing at once (commit_ahead_s 1, max_sigma_mm
+// 150), 22/54 committing late (commit_ahead_s 10), 26/54 with max_sigma_mm
+// 100 (21/54 with 30, 24/54 with 60).
 struct PrimTuning {
-  double commit_ahead_s = 1.0;
+  double commit_ahead_s = 10.0;
   double reaim_ms = 250.0;
   double hold_ms = 150.0;
   double resend_mm = 15.0;
   double freeze_ms = 150.0;
+  // A prediction with a larger sigma (mm) is not chased (CatchPlannerParams).
+  double max_sigma_mm = 100.0;
+  // Commit late (see CatchPlannerParams::move_s_per_sqrt_mm); 0 = off.
+  double move_s_per_sqrt_mm = 0.089;
+  double commit_margin_s = 0.1;
   // The parameters for `p` (for_board's box) with these settings.
   CatchPlannerParams apply(CatchPlannerParams p) const;
 };
@@ -106,6 +135,8 @@ enum class GoalReason {
   kTooSoon,      // a new goal is due but min_interval_us has not passed
   kHolding,      // no new goal: the ball has gone, holding before returning
   kFrozen,       // no re-aim: the catch is within freeze_before_catch_s
+  kWaiting,      // commit late: the arm can still get there later, wait for better predictions
+  kOutOfTime,    // commit late: no re-aim, the arm could not get there before the catch
 };
 const char* to_string(GoalReason reason);
 
@@ -121,6 +152,7 @@ struct CatchGoal {
   double threshold_mm = 0.0;     // the re-send threshold that applied
   double cup_distance_mm = 0.0;  // from the cup to the goal
   double time_to_catch_s = 0.0;  // 0 without a prediction
+  double move_time_s = 0.0;      // commit late: the modelled move from the cup to the wanted point
 };
 
 class CatchPlanner {

@@ -1,5 +1,7 @@
 #include "procs/catch/prim/catch_planner.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace ephor::catching {
@@ -164,8 +166,46 @@ TEST_F(CatchPlannerTest, DoesNotReaimInTheLastMomentsBeforeTheCatch) {
   EXPECT_EQ(planner.step(650 * kMs, next, cup_).reason, GoalReason::kCatch);
 }
 
+// Commit late: with the cup at the ready point, a catch 40 mm to the side
+// needs 0.089 * sqrt(40) = 0.56 s of move; with a 0.1 s margin the first goal
+// waits while the catch is more than 0.66 s ahead, then goes; a re-aim goes
+// only while the arm could still get there.
+TEST_F(CatchPlannerTest, CommitsLateEnoughForTheArmToGetThere) {
+  params_.move_s_per_sqrt_mm = 0.089;
+  params_.commit_margin_s = 0.1;
+  params_.min_interval_us = 0;
+  CatchPlanner planner = make();
+  const Eigen::Vector3d ready = planner.ready_point_w_mm();
+  planner.step(0, std::nullopt, ready);
+  CatchPrediction p = prediction();
+  p.catch_point_w_mm = ready + Eigen::Vector3d(0.0, 40.0, 0.0);
+  p.catch_utime = 1000 * kMs;
+  const CatchGoal wait = planner.step(300 * kMs, p, ready);  // 0.7 s ahead
+  EXPECT_FALSE(wait.send);
+  EXPECT_EQ(wait.reason, GoalReason::kWaiting);
+  EXPECT_NEAR(wait.move_time_s, 0.089 * std::sqrt(40.0), 1e-9);
+  EXPECT_EQ(wait.point_w_mm, ready);
+  const CatchGoal go = planner.step(350 * kMs, p, ready);  // 0.65 s ahead
+  EXPECT_TRUE(go.send);
+  EXPECT_EQ(go.reason, GoalReason::kCatch);
+  // 30 mm the other way (0.49 s from the cup at the ready point) with 0.6 s
+  // left: re-aimed; 200 mm away (1.26 s of move) with 0.55 s left: out of time.
+  CatchPrediction near = p;
+  near.catch_point_w_mm = ready + Eigen::Vector3d(0.0, -30.0, 0.0);
+  EXPECT_EQ(planner.step(400 * kMs, near, ready).reason, GoalReason::kRefined);
+  CatchPrediction far = p;
+  far.catch_point_w_mm = ready + Eigen::Vector3d(0.0, 200.0, 0.0);
+  const CatchGoal out = planner.step(450 * kMs, far, ready);
+  EXPECT_FALSE(out.send);
+  EXPECT_EQ(out.reason, GoalReason::kOutOfTime);
+  EXPECT_EQ(out.point_w_mm, near.catch_point_w_mm);
+}
+
 TEST_F(CatchPlannerTest, RefusesANegativeFreeze) {
   params_.freeze_before_catch_s = -0.1;
+  EXPECT_THROW(make(), std::invalid_argument);
+  params_.freeze_before_catch_s = 0.0;
+  params_.move_s_per_sqrt_mm = -1.0;
   EXPECT_THROW(make(), std::invalid_argument);
 }
 

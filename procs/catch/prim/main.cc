@@ -55,11 +55,9 @@ int main(int argc, char** argv) {
   double &commit_ahead_s = tuning.commit_ahead_s, &reaim_ms = tuning.reaim_ms,
          &hold_ms = tuning.hold_ms, &resend_mm = tuning.resend_mm, &freeze_ms = tuning.freeze_ms;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
-  app.add_option(
-         "--commit-ahead-s", commit_ahead_s,
-         "chase a predicted catch only when it is at most this far ahead, s (the cup "
-         "waits at the ready point before; default 1.0: with the pegs known the prediction is "
-         "within 30 mm that far ahead in most frames, and the arm needs 0.7-1 s for 150-300 mm)")
+  app.add_option("--commit-ahead-s", commit_ahead_s,
+                 "chase a predicted catch only when it is at most this far ahead, s (the cup "
+                 "waits at the ready point before; default 10: committing late decides when)")
       ->check(CLI::Range(0.05, 10.0));
   app.add_option(
          "--reaim-ms", reaim_ms,
@@ -77,6 +75,19 @@ int main(int argc, char** argv) {
                  "after a ball, hold the cup this many ms past the predicted catch before going "
                  "back to the ready point (default 150)")
       ->check(CLI::Range(0.0, 10000.0));
+  app.add_option(
+         "--move-s-per-sqrt-mm", tuning.move_s_per_sqrt_mm,
+         "commit late: the arm moves the cup d mm in this times sqrt(d) s (0.089 for the "
+         "PUMA in the catching cell, the default); the first goal for a ball waits until the "
+         "catch is no further ahead than that plus --commit-margin-s, and a re-aim goes "
+         "only while it fits (0: chase at once)")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--commit-margin-s", tuning.commit_margin_s,
+                 "commit late: margin over the modelled move time, s (default 0.1)")
+      ->check(CLI::Range(0.0, 10.0));
+  app.add_option("--max-sigma-mm", tuning.max_sigma_mm,
+                 "a prediction whose exit sigma is larger is not chased, mm (default 100)")
+      ->check(CLI::Range(0.0, 100000.0));
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);

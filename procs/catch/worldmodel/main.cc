@@ -84,8 +84,10 @@ catch_world_t to_message(const BallFrame& f, const catch_ball_t& ball) {
     m.catch_utime = f.catch_utime;
     if (f.has_spread) {
       // With --spread-samples: the exit and catch point Prim aims at are the
-      // cover of the prediction's spread (ExitSpread), not the mean's.
+      // cover of the prediction's spread (ExitSpread), not the mean's, and
+      // the exit's sigma is the standard deviation of the sampled exits.
       m.exit_x_b_mm = f.spread.cover_exit_x_b_mm;
+      m.exit_sigma_mm = f.spread.exit_x_sd_mm;
       for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.spread.cover_point_w_mm[k];
       m.catch_utime = f.cover_catch_utime;
     }
