@@ -21,6 +21,23 @@ std::vector<ProcessOrder> host_orders(const deputy_orders_t& orders,
       static_cast<size_t>(orders.num_processes) != orders.processes.size())
     throw std::invalid_argument("orders: num_processes " + std::to_string(orders.num_processes) +
                                 " but " + std::to_string(orders.processes.size()) + " processes");
+  // A string with a NUL byte inside (LCM's decoder keeps it) cannot reach
+  // execve or the environment whole, and LCM's encoder stops at the NUL
+  // while getEncodedSize() counts past it, so the deputy's status would
+  // carry a name its receivers drop as a short message (found by
+  // fuzz_deputy_orders).
+  auto check_text = [](const std::string& text, const std::string& what) {
+    if (text.find('\0') != std::string::npos)
+      throw std::invalid_argument("orders: " + what + " contains a NUL byte");
+  };
+  check_text(orders.sheriff, "the sheriff's name");
+  check_text(orders.manifest_text, "the manifest");
+  check_text(orders.lcm_url, "the LCM URL");
+  for (const auto& p : orders.processes) {
+    check_text(p.name, "a process name");
+    check_text(p.exec, "process '" + p.name + "': its exec");
+    for (const auto& a : p.args) check_text(a, "process '" + p.name + "': an argument");
+  }
   const std::string url = orders.lcm_url.empty() ? settings.lcm_url : orders.lcm_url;
   const std::string tag = deputy_tag(settings);
   auto env_for = [&](const std::string& name) {

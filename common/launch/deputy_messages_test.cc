@@ -90,6 +90,16 @@ TEST(DeputyMessages, MalformedOrdersAreRefusedWithTheReason) {
   auto no_manifest = orders({process("arm")});
   no_manifest.manifest_text.clear();
   expect_refused(no_manifest, "no manifest");
+  // Strings with a NUL byte inside (found by fuzz_deputy_orders: the name
+  // went into the status, which LCM then encoded short).
+  auto nul_name = process(std::string("ar\0m", 4));
+  expect_refused(orders({nul_name}), "a process name contains a NUL byte");
+  auto nul_arg = process("x");
+  nul_arg.args = {std::string("--a\0b", 5)};
+  expect_refused(orders({nul_arg}), "process 'x': an argument contains a NUL byte");
+  auto nul_sheriff = orders({process("arm")});
+  nul_sheriff.sheriff = std::string("s\0", 2);
+  expect_refused(nul_sheriff, "the sheriff's name contains a NUL byte");
   // Without the scheduler, no manifest is needed and the name is free.
   auto plain = orders({process("scheduler")}, false);
   plain.manifest_text.clear();
