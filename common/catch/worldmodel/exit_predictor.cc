@@ -43,6 +43,10 @@ void ExitPredictor::set_pegs(std::vector<Eigen::Vector2d> centres_b_mm, double p
   if (!(restitution >= 0.0 && restitution <= 1.0))
     throw std::invalid_argument("ExitPredictor: the restitution must be in [0, 1]");
   pegs_ = std::move(centres_b_mm);
+  pegs_by_y_ = pegs_;
+  std::stable_sort(
+      pegs_by_y_.begin(), pegs_by_y_.end(),
+      [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.y() < b.y(); });
   peg_radius_mm_ = peg_radius_mm;
   restitution_ = restitution;
 }
@@ -79,10 +83,19 @@ RolledExit roll_past_pegs(const BoardSpec& board, const std::vector<Eigen::Vecto
     }
     const Eigen::Vector2d p0 = p;
     p = next;
-    for (const auto& c : pegs) {
+    // Only the pegs within reach in y (`pegs` is sorted by y).
+    const auto first =
+        std::lower_bound(pegs.begin(), pegs.end(), p.y() - reach,
+                         [](const Eigen::Vector2d& c, double y) { return c.y() < y; });
+    const double y_end = p.y() + reach;
+    for (auto it = first; it != pegs.end() && it->y() < y_end; ++it) {
+      const Eigen::Vector2d& c = *it;
       const Eigen::Vector2d d = p - c;
-      const double dist = d.norm();
-      if (dist >= reach || dist <= 1e-9) continue;
+      // Most pegs are far: compare squares first (no square root per peg and
+      // step; ExitSpread rolls many states).
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= reach * reach || dist2 <= 1e-18) continue;
+      const double dist = std::sqrt(dist2);
       // The normal at the contact on the step's chord (see BallKalmanFilter).
       const double u = first_contact(p0, p, c, reach);
       const Eigen::Vector2d n = (p0 + u * (p - p0) - c).normalized();
@@ -166,7 +179,8 @@ ExitPrediction ExitPredictor::predict(const Eigen::Vector4d& state,
     }
   }
   if (!pegs_.empty() && out.status == ExitStatus::kOk) {
-    const RolledExit rolled = roll_past_pegs(board_, pegs_, peg_radius_mm_, restitution_, a, state);
+    const RolledExit rolled =
+        roll_past_pegs(board_, pegs_by_y_, peg_radius_mm_, restitution_, a, state);
     if (rolled.ok) {
       tau = rolled.tau_s;
       exit_x = rolled.x_mm;

@@ -108,6 +108,7 @@ class ExitPredictor {
   double acceleration_mm_s2_;
   ExitPredictorParams params_;
   std::vector<Eigen::Vector2d> pegs_;
+  std::vector<Eigen::Vector2d> pegs_by_y_;  // the same, sorted by y: the roll checks a band
   double peg_radius_mm_ = 0.0;
   double restitution_ = 0.5;
 };
