@@ -340,6 +340,8 @@ nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
     double window_s;
   };
   const std::vector<Model> models{
+      {"rigid body, 1 s (a first fit)", -1, RotationCoordinates::kRotationVector, 1.0},
+      {"rigid body, 2 s", -1, RotationCoordinates::kRotationVector, 2.0},
       {"rigid body, 4 s", -1, RotationCoordinates::kRotationVector, 4.0},
       {"quadratic ZYX (paper), 4 s", 2, RotationCoordinates::kZyxAngles, 4.0},
       {"linear rot-vector, 2 s", 1, RotationCoordinates::kRotationVector, 2.0},
@@ -413,10 +415,10 @@ nlohmann::json bench_live_prediction(const std::string& model_path, int seeds) {
     }
     std::printf(
         "  %s:%*s   0.5 s            1 s              2 s              4 s              8 s\n",
-        carrier.c_str(), static_cast<int>(28 - carrier.size()), "");
+        carrier.c_str(), static_cast<int>(30 - carrier.size()), "");
     nlohmann::json c;
     for (std::size_t k = 0; k < models.size(); ++k) {
-      std::printf("    %-28s", models[k].name.c_str());
+      std::printf("    %-30s", models[k].name.c_str());
       nlohmann::json row;
       for (std::size_t h = 0; h < horizons.size(); ++h) {
         std::printf("  %6.2f / %6.2f", percentile(err[k][h], 50), percentile(err[k][h], 90));
