@@ -27,8 +27,9 @@ TEST(KinematicFieldTest, SheepWalkStraightAndEscapeOverTheEdge) {
   EXPECT_EQ(field.sheep_on_field(), 1);  // re-entered from an edge
 }
 
-TEST(KinematicFieldTest, LoweredToolTurnsASheepTowardTheCentre) {
-  KinematicFieldConfig fc;
+// A sheep at (400, 400) walking left at 30 mm/s into a tool lowered at
+// (200, 400) facing theta: the field once the touch has happened.
+KinematicField field_after_touch(KinematicFieldConfig fc, double theta_rad) {
   fc.start_x_mm = 200;
   fc.start_y_mm = 400;
   KinematicField field{fc, {Sheep{1, 400, 400, -30, 0, SheepState::kVisible}}};
@@ -37,8 +38,14 @@ TEST(KinematicFieldTest, LoweredToolTurnsASheepTowardTheCentre) {
   lower.plane = Plane::kObject;
   lower.x_mm = 200;
   lower.y_mm = 400;
+  lower.theta_rad = theta_rad;
   field.send(lower);
   for (int i = 0; i < 300 && field.touches() == 0; ++i) field.step(0.05);
+  return field;
+}
+
+TEST(KinematicFieldTest, LoweredToolTurnsASheepTowardTheCentre) {
+  KinematicField field = field_after_touch(KinematicFieldConfig{}, 0.0);  // facing the centre
   EXPECT_EQ(field.touches(), 1);
   const auto done = field.take_done();
   ASSERT_EQ(done.size(), 1u);
@@ -56,17 +63,7 @@ TEST(KinematicFieldTest, TouchedSheepGoesTheWayTheToolFaces) {
   for (const bool along_tool : {true, false}) {
     KinematicFieldConfig fc;
     fc.touch_turns_along_tool = along_tool;
-    fc.start_x_mm = 200;
-    fc.start_y_mm = 400;
-    KinematicField field{fc, {Sheep{1, 400, 400, -30, 0, SheepState::kVisible}}};
-    Goal lower;
-    lower.goal_id = 1;
-    lower.plane = Plane::kObject;
-    lower.x_mm = 200;
-    lower.y_mm = 400;
-    lower.theta_rad = 0.3;
-    field.send(lower);
-    for (int i = 0; i < 300 && field.touches() == 0; ++i) field.step(0.05);
+    KinematicField field = field_after_touch(fc, 0.3);
     ASSERT_EQ(field.touches(), 1);
     field.step(0.05);
     const Sheep s = field.scene(ArmModel{}).sheep.at(0);
