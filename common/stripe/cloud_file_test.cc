@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -23,6 +25,40 @@ TEST(CloudFileTest, BadInputIsAClearError) {
   EXPECT_THROW(save_cloud_ply("/nonexistent-dir/x.ply", {{1, 2, 3}}), CloudFileError);
   EXPECT_THROW(save_cloud_ply("/tmp/ephor_nan.ply", {{1, NAN, 3}}), CloudFileError);
   EXPECT_THROW(load_cloud_ply("/nonexistent-dir/x.ply"), CloudFileError);
+}
+
+// Found by fuzz_stripe_cloud_ply (its corpus keeps the input): an element
+// PCL does not know ("verte?x") declared before the vertex properties left
+// PCL's cloud with sizes that disagree with its data, and PCL's conversion
+// to points indexed past what it had allocated. The file is refused or read
+// within its data, never past it; a PLY with doubles and extra properties
+// still loads.
+TEST(CloudFileTest, AMalformedHeaderIsRefusedNotReadPastItsData) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ephor_stripe_cloud_bad.ply").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement verte\xd4x 2\n"
+           "property float x\nproperty float y\nproperty float z\nproperty float nx\n"
+           "element vertex 1\nproperty list uchar int vertex_indices\nend_header\n";
+    out.write("\0\0\x80?\0\0\0@\0\0@@", 12);
+  }
+  try {
+    const auto pts = load_cloud_ply(path);
+    EXPECT_LE(pts.size(), 2u);
+  } catch (const CloudFileError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream out(path);
+    out << "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty float confidence\n"
+           "property double y\nproperty double z\nend_header\n1.5 7 2.5 3.5\n-1 0 -2 -3\n";
+  }
+  const auto pts = load_cloud_ply(path);
+  ASSERT_EQ(pts.size(), 2u);
+  EXPECT_EQ(pts[0], Eigen::Vector3d(1.5, 2.5, 3.5));
+  EXPECT_EQ(pts[1], Eigen::Vector3d(-1.0, -2.0, -3.0));
+  std::filesystem::remove(path);
 }
 
 }  // namespace
