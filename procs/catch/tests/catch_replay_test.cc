@@ -88,9 +88,10 @@ TEST(CatchReplay, RecordedBallsReplayToByteIdenticalWorldModelOutput) {
     });
     bus.start();
     Processes p;
+    // The world model's arguments as deploy/catch.pbtxt gives them.
     p.start("worldmodel", bin("ephor-catch-worldmodel"),
             {"--no-mlock", "--name", "worldmodel", "--board", "deploy/catch/board.pbtxt",
-             "--camera", "deploy/catch/camera.pbtxt"},
+             "--camera", "deploy/catch/camera.pbtxt", "--spread-samples=32"},
             env);
     ASSERT_TRUE(wait_until([&] { return p.has_line("worldmodel", "ready:"); }, seconds(10)));
     p.start("player", "/usr/bin/lcm-logplayer",
