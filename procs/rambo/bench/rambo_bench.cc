@@ -530,8 +530,9 @@ nlohmann::json bench_reach(const std::string& model_path, int seeds) {
   std::printf("reach: %s, %d seeds, 120 s at 0.5 s: goal reachable at t and t + 2 s\n",
               model_path.empty() ? "built-in target" : model_path.c_str(), seeds);
   for (const std::string carrier : {"free", "rm501"}) {
-    std::vector<std::vector<double>> fraction(cell.diodes.size()), window(cell.diodes.size());
-    std::vector<std::vector<int>> never(cell.diodes.size());
+    std::vector<std::vector<double>> fraction(cell.diodes.size()), window(cell.diodes.size()),
+        from_start(cell.diodes.size());
+    std::vector<std::vector<int>> never(cell.diodes.size()), out_at_start(cell.diodes.size());
     for (int seed = 1; seed <= seeds; ++seed) {
       const TumblingMotion m = cell.draw_motion(static_cast<std::uint64_t>(seed), 2.0, 1.0);
       std::vector<DiodeReach> r;
@@ -545,26 +546,35 @@ nlohmann::json bench_reach(const std::string& model_path, int seeds) {
       for (std::size_t i = 0; i < r.size(); ++i) {
         fraction[i].push_back(r[i].reachable_fraction());
         window[i].push_back(r[i].longest_window_s);
+        from_start[i].push_back(r[i].in_reach_from_start_s);
         if (r[i].reachable == 0) never[i].push_back(seed);
+        if (r[i].in_reach_from_start_s == 0.0) out_at_start[i].push_back(seed);
       }
     }
     std::printf(
         "  %s: diode        reachable %% of the run: min / p50   longest window s: min / p50"
-        "   never in reach (seeds)\n",
+        "   in reach from the start s: min / p50   out of reach at the start (seeds)   never in "
+        "reach (seeds)\n",
         carrier.c_str());
     nlohmann::json c;
     for (std::size_t i = 0; i < cell.diodes.size(); ++i) {
-      std::string nv;
+      std::string nv, os;
       for (int sd : never[i]) nv += (nv.empty() ? "" : ",") + std::to_string(sd);
-      std::printf("    %-12s %5.0f / %5.0f   %6.1f / %6.1f   %s\n", cell.diodes[i].name.c_str(),
-                  100.0 * percentile(fraction[i], 0), 100.0 * percentile(fraction[i], 50),
-                  percentile(window[i], 0), percentile(window[i], 50),
+      for (int sd : out_at_start[i]) os += (os.empty() ? "" : ",") + std::to_string(sd);
+      std::printf("    %-12s %5.0f / %5.0f   %6.1f / %6.1f   %6.1f / %6.1f   %s   %s\n",
+                  cell.diodes[i].name.c_str(), 100.0 * percentile(fraction[i], 0),
+                  100.0 * percentile(fraction[i], 50), percentile(window[i], 0),
+                  percentile(window[i], 50), percentile(from_start[i], 0),
+                  percentile(from_start[i], 50), os.empty() ? "-" : os.c_str(),
                   nv.empty() ? "-" : nv.c_str());
       c[cell.diodes[i].name] = {
           {"reachable_fraction",
            {{"min", percentile(fraction[i], 0)}, {"p50", percentile(fraction[i], 50)}}},
           {"longest_window_s",
            {{"min", percentile(window[i], 0)}, {"p50", percentile(window[i], 50)}}},
+          {"in_reach_from_start_s",
+           {{"min", percentile(from_start[i], 0)}, {"p50", percentile(from_start[i], 50)}}},
+          {"out_of_reach_at_start_seeds", out_at_start[i]},
           {"never_reachable_seeds", never[i]}};
     }
     out[carrier] = c;
