@@ -4,6 +4,11 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/ply_io.h>
@@ -11,6 +16,77 @@
 #include <pcl/point_types.h>
 
 namespace ephor::stripe {
+
+namespace {
+
+// PCL's PLY parser asserts (aborts the process) on some malformed headers:
+// a list property inside the vertex element (found by fuzz_stripe_cloud_ply
+// once a mutation had turned the next "element face" line into garbage). So
+// the header is checked here first, strictly, and only a well-formed one
+// with one vertex element of scalar properties reaches PCL. Returns why
+// not, or "".
+std::string ply_header_problem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "cannot be opened";
+  static const std::set<std::string> kScalars = {
+      "char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
+      "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  std::string line;
+  int vertex_elements = 0;
+  bool in_vertex = false, any_element = false;
+  std::size_t read = 0;
+  for (int n = 0; std::getline(in, line); ++n) {
+    read += line.size() + 1;
+    if (read > 65536) return "no end_header in its first 64 kB";
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (n == 0) {
+      if (line != "ply") return "it does not begin with 'ply'";
+      continue;
+    }
+    std::vector<std::string> rest;
+    for (std::string w; words >> w;) rest.push_back(w);
+    if (word == "end_header" && rest.empty()) {
+      if (vertex_elements != 1) return "it has no vertex element, or more than one";
+      return "";
+    }
+    if (word == "comment" || word == "obj_info") continue;
+    if (word == "format") {
+      if (rest.size() != 2 || rest[1] != "1.0" ||
+          (rest[0] != "ascii" && rest[0] != "binary_little_endian" &&
+           rest[0] != "binary_big_endian"))
+        return "header line " + std::to_string(n + 1) + ": not a PLY 1.0 format";
+      continue;
+    }
+    if (word == "element") {
+      if (rest.size() != 2 || rest[1].empty() || rest[1].size() > 10 ||
+          rest[1].find_first_not_of("0123456789") != std::string::npos ||
+          std::stoll(rest[1]) > 2147483647LL)
+        return "header line " + std::to_string(n + 1) + ": not 'element NAME COUNT'";
+      any_element = true;
+      in_vertex = rest[0] == "vertex";
+      vertex_elements += in_vertex ? 1 : 0;
+      continue;
+    }
+    if (word == "property") {
+      if (!any_element)
+        return "header line " + std::to_string(n + 1) + ": a property before any element";
+      const bool list = rest.size() == 4 && rest[0] == "list" && kScalars.count(rest[1]) != 0 &&
+                        kScalars.count(rest[2]) != 0;
+      const bool scalar = rest.size() == 2 && kScalars.count(rest[0]) != 0;
+      if (!list && !scalar)
+        return "header line " + std::to_string(n + 1) + ": not 'property TYPE NAME'";
+      if (list && in_vertex) return "a list property in the vertex element";
+      continue;
+    }
+    return "header line " + std::to_string(n + 1) + " is not PLY";
+  }
+  return "no end_header";
+}
+
+}  // namespace
 
 void save_cloud_ply(const std::string& path, const std::vector<Eigen::Vector3d>& points_mm) {
   pcl::PointCloud<pcl::PointXYZ> cloud;
@@ -40,6 +116,8 @@ std::vector<Eigen::Vector3d> load_cloud_ply(const std::string& path) {
   // (fromPCLPointCloud2) trusts them, and a malformed header (an unknown
   // element before the properties) made it index past the points it had
   // allocated (found by fuzz_stripe_cloud_ply, UBSan; a heap overrun without).
+  if (const std::string why = ply_header_problem(path); !why.empty())
+    throw CloudFileError("cloud file " + path + ": " + why);
   pcl::PCLPointCloud2 blob;
   if (pcl::io::loadPLYFile(path, blob) < 0)
     throw CloudFileError("cloud file " + path + ": cannot be read as PLY");

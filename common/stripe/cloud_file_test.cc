@@ -61,5 +61,36 @@ TEST(CloudFileTest, AMalformedHeaderIsRefusedNotReadPastItsData) {
   std::filesystem::remove(path);
 }
 
+// PCL's parser aborts (an assert) on a list property inside the vertex
+// element (found by fuzz_stripe_cloud_ply): the header is checked first and
+// such a file refused with the reason, as are other malformed headers.
+TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ephor_stripe_cloud_header.ply").string();
+  auto refused = [&](const std::string& header, const std::string& why) {
+    std::ofstream(path, std::ios::binary) << header;
+    try {
+      load_cloud_ply(path);
+      ADD_FAILURE() << "accepted: " << header;
+    } catch (const CloudFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused(
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+      "property float y\nproperty float z\nel\xdbment face 0\nproperty list uchar int "
+      "vertex_indices\nend_header\n",
+      "header line 7 is not PLY");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0\n",
+      "a list property in the vertex element");
+  refused("ply\nformat ascii 2.0\nelement vertex 0\nend_header\n", "not a PLY 1.0 format");
+  refused("ply\nformat ascii 1.0\nproperty float x\nend_header\n", "a property before any element");
+  refused("ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no vertex element");
+  refused("ply\nformat ascii 1.0\nelement vertex 1\n", "no end_header");
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace ephor::stripe
