@@ -100,9 +100,14 @@ void save_cloud_ply(const std::string& path, const std::vector<Eigen::Vector3d>&
                                   static_cast<float>(p.z())));
   }
   if (cloud.empty()) {
-    // PCL refuses to write an empty cloud; an empty scan is still a scan.
-    cloud.width = 0;
-    cloud.height = 1;
+    // PCL's writer refuses an empty cloud (an empty scan is still a scan):
+    // the header alone, as PCL writes it (found by fuzz_stripe_cloud_ply:
+    // a cloud of no finite points could not be written).
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << "ply\nformat binary_little_endian 1.0\ncomment PCL generated\nelement vertex 0\n"
+           "property float x\nproperty float y\nproperty float z\nend_header\n";
+    if (!out.flush()) throw CloudFileError("cloud file " + path + ": cannot be written");
+    return;
   }
   // No camera element: PCL's own reader and other tools warn about it.
   pcl::PLYWriter writer;

@@ -92,5 +92,16 @@ TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
   std::filesystem::remove(path);
 }
 
+// An empty scan is still a scan: PCL's writer refuses an empty cloud, so
+// save_cloud_ply failed for one (found by fuzz_stripe_cloud_ply: a cloud of
+// no finite points could not be written).
+TEST(CloudFileTest, AnEmptyCloudIsWrittenAndReadBack) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "ephor_stripe_cloud_empty.ply").string();
+  save_cloud_ply(path, {});
+  EXPECT_TRUE(load_cloud_ply(path).empty());
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace ephor::stripe
