@@ -45,6 +45,7 @@ FILE_INPUTS = {
     "ephor-catch-monitor": [],
     "ephor-catch-prim": ["--board"],
     "ephor-catch-harness": ["--board", "--workcell"],
+    "ephor-catch-loop": ["--board", "--workcell"],
     "ephor-catch-sim": ["--board", "--workcell"],
     "ephor-catch-track": [None, "--board", "--camera"],
     "ephor-catch-vision": ["--board", "--camera"],
