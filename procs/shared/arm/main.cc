@@ -317,15 +317,17 @@ class ArmProcess {
       const int64_t age_us = ephor::wall_us() - m.utime;
       const auto max_age_us = static_cast<int64_t>(options_.max_age_ms * 1000.0);
       if (m.utime <= 0) return reject(m, "command has no send time (utime <= 0)");
-      // Sent before this run began: a restarted arm cannot know whether the
-      // run before executed it (CommandLedger), so it never does.
-      if (auto why = ledger_.refusal(m.seq, m.utime)) return fail_unknown(m, std::move(*why));
+      // Too old or from the future: refused whenever it was first sent (the
+      // restart rule below never needs to vouch for it).
       if (age_us > max_age_us)
         return reject(m, fmt::format("stale: sent {:.0f} ms ago (max age {:.0f} ms)", age_us / 1e3,
                                      options_.max_age_ms));
       if (age_us < -max_age_us)
         return reject(m, fmt::format("send time {:.0f} ms in the future: clocks out of sync?",
                                      -age_us / 1e3));
+      // Sent before this run began: a restarted arm cannot know whether the
+      // run before executed it (CommandLedger), so it never does.
+      if (auto why = ledger_.refusal(m.seq, m.utime)) return fail_unknown(m, std::move(*why));
       if (!servo_) return reject(m, "no joint state from the servo yet (ARM_SERVO)");
       const double silent_ms = (ephor::mono_us() - servo_mono_us_) / 1e3;
       if (silent_ms > options_.servo_silence_ms)
