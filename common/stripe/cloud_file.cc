@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -34,6 +35,7 @@ std::string ply_header_problem(const std::string& path) {
   std::string line;
   int vertex_elements = 0;
   bool in_vertex = false, any_element = false;
+  std::map<std::string, std::string> vertex_properties;  // name -> type
   std::size_t read = 0;
   for (int n = 0; std::getline(in, line); ++n) {
     read += line.size() + 1;
@@ -50,6 +52,23 @@ std::string ply_header_problem(const std::string& path) {
     for (std::string w; words >> w;) rest.push_back(w);
     if (word == "end_header" && rest.empty()) {
       if (vertex_elements != 1) return "it has no vertex element, or more than one";
+      for (const char* axis : {"x", "y", "z"}) {
+        const auto it = vertex_properties.find(axis);
+        if (it == vertex_properties.end() || (it->second != "float" && it->second != "float32" &&
+                                              it->second != "double" && it->second != "float64"))
+          return std::string("no float or double vertex property ") + axis;
+      }
+      // PCL's colour callbacks assert (abort) unless red, green and blue
+      // come together as unsigned bytes (found by fuzz_stripe_cloud_ply).
+      int colours = 0;
+      for (const char* c : {"red", "green", "blue", "alpha"}) {
+        const auto it = vertex_properties.find(c);
+        if (it == vertex_properties.end()) continue;
+        if (it->second != "uchar" && it->second != "uint8")
+          return std::string("vertex property ") + c + " is not uchar";
+        colours += std::string(c) != "alpha";
+      }
+      if (colours != 0 && colours != 3) return "vertex colours without all of red, green, blue";
       return "";
     }
     if (word == "comment" || word == "obj_info") continue;
@@ -79,6 +98,12 @@ std::string ply_header_problem(const std::string& path) {
       if (!list && !scalar)
         return "header line " + std::to_string(n + 1) + ": not 'property TYPE NAME'";
       if (list && in_vertex) return "a list property in the vertex element";
+      const std::string& name = rest.back();
+      if (name.empty() ||
+          name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                 "0123456789_") != std::string::npos)
+        return "header line " + std::to_string(n + 1) + ": a property name that is not a word";
+      if (in_vertex) vertex_properties[name] = rest[0];
       continue;
     }
     return "header line " + std::to_string(n + 1) + " is not PLY";

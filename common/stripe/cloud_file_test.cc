@@ -89,6 +89,16 @@ TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
   refused("ply\nformat ascii 1.0\nproperty float x\nend_header\n", "a property before any element");
   refused("ply\nformat ascii 1.0\nelement face 0\nend_header\n", "no vertex element");
   refused("ply\nformat ascii 1.0\nelement vertex 1\n", "no end_header");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty char red\nend_header\n0 0 0 1\n",
+      "vertex property red is not uchar");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nend_header\n0 0 0 1\n",
+      "without all of red, green, blue");
+  refused("ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar red\nend_header\n1\n",
+          "no float or double vertex property x");
   std::filesystem::remove(path);
 }
 
