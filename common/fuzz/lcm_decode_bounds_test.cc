@@ -5,14 +5,17 @@
 // process allocate gigabytes. cmake/lcm_bound_counts.sed now makes every
 // decoder refuse them, as it refuses a short buffer: decode() returns -1.
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "ephor/arm_cmd_t.hpp"
 #include "ephor/camera_frame_t.hpp"
+#include "ephor/deputy_process_order_t.hpp"
 
 // GCC 12 at -O3 sees lcm-gen's decode() inlined here and wrongly thinks its
 // msg_hash may be read uninitialised.
@@ -93,6 +96,38 @@ TEST(LcmDecodeBounds, AnImageLongerThanItsMessageIsRefused) {
   ephor::camera_frame_t back;
   EXPECT_LT(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
   EXPECT_EQ(back.data.capacity(), 0u);
+}
+
+TEST(LcmDecodeBounds, AStringWithANulByteIsRefused) {
+  ephor::arm_cmd_t m = image_command();
+  m.header.sender = "ab";
+  std::vector<uint8_t> bytes = encoded(m);
+  // header_t's sender: length 3 at 24, then 'a' 'b' NUL from 28.
+  ASSERT_EQ(bytes[28], 'a');
+  ephor::arm_cmd_t back;
+  EXPECT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  EXPECT_EQ(back.header.sender, "ab");
+  bytes[28] = 0;
+  EXPECT_LT(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
+}
+
+TEST(LcmDecodeBounds, AStringArrayElementWithANulByteIsRefused) {
+  ephor::deputy_process_order_t m{};
+  m.name = "task";
+  m.exec = "ephor-task";
+  m.num_args = 1;
+  m.args = {"--rate=30"};
+  std::vector<uint8_t> bytes = encoded(m);
+  ephor::deputy_process_order_t back;
+  ASSERT_EQ(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  ASSERT_EQ(back.args.at(0), "--rate=30");
+  const std::string arg = "--rate=30";
+  const auto at = std::search(bytes.begin(), bytes.end(), arg.begin(), arg.end());
+  ASSERT_NE(at, bytes.end());
+  *(at + 6) = 0;  // "--rate\0" + "30"
+  EXPECT_LT(back.decode(bytes.data(), 0, static_cast<int>(bytes.size())), 0);
 }
 
 }  // namespace

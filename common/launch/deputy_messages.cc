@@ -21,7 +21,9 @@ std::vector<ProcessOrder> host_orders(const deputy_orders_t& orders,
       static_cast<size_t>(orders.num_processes) != orders.processes.size())
     throw std::invalid_argument("orders: num_processes " + std::to_string(orders.num_processes) +
                                 " but " + std::to_string(orders.processes.size()) + " processes");
-  // A string with a NUL byte inside (LCM's decoder keeps it) cannot reach
+  // A string with a NUL byte inside (lcm-gen's decoder kept it; ours now
+  // refuse the message, cmake/lcm_bound_counts.sed, so this guards orders
+  // built in process) cannot reach
   // execve or the environment whole, and LCM's encoder stops at the NUL
   // while getEncodedSize() counts past it, so the deputy's status would
   // carry a name its receivers drop as a short message (found by

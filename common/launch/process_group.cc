@@ -109,7 +109,15 @@ void ProcessGroup::drain(Child& child, bool final) {
   while (true) {
     const ssize_t n = read(child.out_fd, buf, sizeof buf);
     if (n > 0) {
-      child.partial.append(buf, static_cast<size_t>(n));
+      // A NUL byte in a child's output would reach the deputy's output
+      // message, which LCM encodes only up to the NUL while its size counts
+      // past it, so every receiver would drop the batch: shown as "\0".
+      for (ssize_t i = 0; i < n; ++i) {
+        if (buf[i] == '\0')
+          child.partial.append("\\0");
+        else
+          child.partial.push_back(buf[i]);
+      }
       size_t pos;
       while ((pos = child.partial.find('\n')) != std::string::npos) {
         on_line_(child.spec.name, child.partial.substr(0, pos));

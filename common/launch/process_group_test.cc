@@ -46,6 +46,14 @@ TEST(ProcessGroup, CapturesLinesAndExitStatus) {
   EXPECT_EQ(cap.lines["talker"], (std::vector<std::string>{"one", "two", "three"}));
 }
 
+TEST(ProcessGroup, ANulByteInOutputIsShownNotPassedOn) {
+  Captured cap;
+  ProcessGroup g(cap.handler());
+  g.start(sh("binary", "printf 'a\\000b\\n'"));
+  ASSERT_EQ(wait_exits(g, 1).size(), 1u);
+  EXPECT_EQ(cap.lines["binary"], std::vector<std::string>{"a\\0b"});
+}
+
 TEST(ProcessGroup, SignalsOneChildAndForgetsExitedOnes) {
   Captured cap;
   ProcessGroup g(cap.handler());

@@ -80,7 +80,7 @@ TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
       "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
       "property float y\nproperty float z\nel\xdbment face 0\nproperty list uchar int "
       "vertex_indices\nend_header\n",
-      "header line 7 is not PLY");
+      "header line 7 has a control byte");
   refused(
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float z\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0\n",
@@ -99,6 +99,18 @@ TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
       "without all of red, green, blue");
   refused("ply\nformat ascii 1.0\nelement vertex 1\nproperty uchar red\nend_header\n1\n",
           "no float or double vertex property x");
+  // PCL read "\rformat" otherwise than we did, went past end_header and
+  // asserted on a later "obj_info" line (fuzz_stripe_cloud_ply, 2026-11-28).
+  refused(
+      "ply\r\n\rformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n\nobj_info uchar\n",
+      "header line 1 has a control byte");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n property float y\n"
+      "property float z\nend_header\n",
+      "header line 5: words not one space apart");
+  refused("ply\ncomment first\nformat ascii 1.0\nelement vertex 0\nend_header\n",
+          "header line 2 is not its format");
   std::filesystem::remove(path);
 }
 

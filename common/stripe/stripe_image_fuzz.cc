@@ -4,7 +4,7 @@
 // then, as ephor-stripe-stripe's extract task does with a MODE_STRIPE image,
 // image_of() (sizes that disagree with the data, non-finite joints refused),
 // the StripeExtractor with the centre method and threshold the message's
-// image_index picks (all four methods over a corpus), set_rows() into the
+// image_index picks (all four methods over a corpus), profile_of() for the
 // profile it publishes; and, as ephor-stripe-calibrate does with a MODE_SPOT
 // image (it takes any mode), find_spot(). The profile must encode and decode to its own size and
 // read back through stripe_of() (what ephor-stripe-range does with it) with
@@ -38,16 +38,7 @@ void stripe_process(const stripe_image_t& m, const cv::Mat& image) {
   options.threshold = 1 + static_cast<int>((pick / 4) % 255);  // --threshold's range, 1..255
   const StripeExtractor extractor(options);
   const Stripe stripe = extractor.extract(image);
-  stripe_profile_t p{};
-  p.utime = m.utime;
-  p.image_index = m.image_index;
-  p.request_id = m.request_id;
-  p.scan_id = m.scan_id;
-  p.stripe_index = m.stripe_index;
-  for (int j = 0; j < 6; ++j) p.q[j] = m.q[j];
-  p.method = centre_method_name(options.method);
-  p.threshold = options.threshold;
-  set_rows(stripe, p);
+  const stripe_profile_t p = profile_of(m, stripe, options);
 
   // What the bus sends and the range process reads back.
   const int size = p.getEncodedSize();

@@ -61,7 +61,17 @@ Stripe stripe_of(const stripe_profile_t& m, std::string* why) {
   return s;
 }
 
-void set_rows(const Stripe& stripe, stripe_profile_t& m) {
+stripe_profile_t profile_of(const stripe_image_t& image, const Stripe& stripe,
+                            const StripeExtractorOptions& options) {
+  stripe_profile_t m{};
+  m.utime = image.utime;
+  m.image_index = image.image_index;
+  m.request_id = image.request_id;
+  m.scan_id = image.scan_id;
+  m.stripe_index = image.stripe_index;
+  for (int j = 0; j < 6; ++j) m.q[j] = image.q[j];
+  m.method = centre_method_name(options.method);
+  m.threshold = options.threshold;
   m.num_rows = static_cast<int32_t>(stripe.points.size());
   m.row.clear();
   m.u_px.clear();
@@ -75,6 +85,7 @@ void set_rows(const Stripe& stripe, stripe_profile_t& m) {
   }
   m.runs_found = stripe.runs_found;
   m.runs_dropped = stripe.runs_dropped;
+  return m;
 }
 
 std::vector<Eigen::Vector3d> points_of(const stripe_points_t& m, std::string* why) {

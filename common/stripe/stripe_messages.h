@@ -28,8 +28,11 @@ void set_joints(const arm::Joints& q, double out[6]);
 // why not when its arrays disagree with num_rows, rows do not increase or a
 // number is not finite.
 Stripe stripe_of(const stripe_profile_t& m, std::string* why);
-// Fills the profile's rows from `stripe`.
-void set_rows(const Stripe& stripe, stripe_profile_t& m);
+// The profile the stripe process publishes for image `m`: its stripe's rows,
+// the image's time, indices and joints, the extractor's method and
+// threshold. cpu_us is the caller's to set.
+stripe_profile_t profile_of(const stripe_image_t& m, const Stripe& stripe,
+                            const StripeExtractorOptions& options);
 
 // The points of a stripe_points_t (mm, table frame); why not when its
 // arrays disagree with num_points.

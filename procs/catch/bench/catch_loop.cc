@@ -19,11 +19,11 @@
 #include "common/catch/sim/catch_cell.h"
 #include "common/catch/sim/catch_judge.h"
 #include "common/catch/sim/catch_scenario.h"
+#include "common/catch/summary/catch_summary.h"
 #include "common/catch/vision/ball_window.h"
 #include "common/catch/vision/board_pose_estimator.h"
 #include "common/catch/vision/circle_finder.h"
 #include "common/catch/vision/motion_centroid.h"
-#include "procs/catch/monitor/catch_summary.h"
 
 namespace ephor::catching {
 

@@ -47,9 +47,9 @@
 #include <nlohmann/json.hpp>
 
 #include "common/catch/board_model.h"
+#include "common/catch/prim/catch_planner.h"
 #include "common/catch/worldmodel/ball_world_model.h"
 #include "common/geometry/workcell.h"
-#include "procs/catch/prim/catch_planner.h"
 
 namespace ephor::catching {
 

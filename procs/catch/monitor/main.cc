@@ -1,7 +1,7 @@
 // ephor-catch-monitor: watches a catching run and says how it is doing: a
 // status line every few seconds (balls, catches, rates, accuracy) and, on
 // exit, a JSON summary (--summary FILE) scored against the simulator's
-// ground truth (procs/catch/monitor/catch_summary.h). Only listens.
+// ground truth (common/catch/summary/catch_summary.h). Only listens.
 
 #include <fstream>
 #include <mutex>
@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/catch/catch_channels.h"
+#include "common/catch/summary/catch_summary.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
 #include "common/log/log.h"
@@ -21,7 +22,6 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/catch_world_t.hpp"
 #include "ephor/sched_status_t.hpp"
-#include "procs/catch/monitor/catch_summary.h"
 
 namespace {
 

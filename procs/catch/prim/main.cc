@@ -26,6 +26,7 @@
 #include "common/catch/board_file.h"
 #include "common/catch/board_survey.h"
 #include "common/catch/catch_channels.h"
+#include "common/catch/prim/catch_planner.h"
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
@@ -40,7 +41,6 @@
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
-#include "procs/catch/prim/catch_planner.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;

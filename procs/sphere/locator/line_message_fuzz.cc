@@ -16,7 +16,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,25 +37,7 @@ void locate(const SphereLocator& locator, const AssembledWindow& w) {
   if (!e.ok && e.reason.empty()) fuzz::fail("no estimate and no reason");
   if (e.ok && !(e.position_m.allFinite() && e.velocity_m_s.allFinite() && std::isfinite(e.t_s)))
     fuzz::fail("an estimate that is not finite");
-  // As the locate task publishes it.
-  sphere_estimate_t m{};
-  m.window = w.index;
-  m.window_begin_s = w.window.t_begin_s;
-  m.window_end_s = w.window.t_end_s;
-  m.ok = e.ok;
-  m.reason = e.reason;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  m.t_s = e.ok ? e.t_s : nan;
-  for (int i = 0; i < 3; ++i) {
-    m.position_m[i] = e.ok ? e.position_m[i] : nan;
-    m.velocity_m_s[i] = e.ok ? e.velocity_m_s[i] : nan;
-  }
-  m.points = e.points;
-  m.lines = e.lines;
-  m.lines_received = w.lines_received;
-  m.lines_missing = w.lines_missing;
-  m.algorithm = to_string(locator.config().algorithm);
-  m.variant = to_string(locator.config().variant);
+  sphere_estimate_t m = estimate_message_of(e, w, locator.config());
   const int size = m.getEncodedSize();
   std::vector<uint8_t> bytes(static_cast<size_t>(size));
   if (m.encode(bytes.data(), 0, size) != size) fuzz::fail("the estimate does not encode");

@@ -126,26 +126,9 @@ int main(int argc, char** argv) {
         }
         double cpu_us = 0.0;
         const Estimate e = locator.locate(w.window, &cpu_us);
-        sphere_estimate_t m{};
+        sphere_estimate_t m = estimate_message_of(e, w, lc);
         m.utime = wall_us();
-        m.window = w.index;
-        m.window_begin_s = w.window.t_begin_s;
-        m.window_end_s = w.window.t_end_s;
-        m.ok = e.ok;
-        m.reason = e.reason;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        m.t_s = e.ok ? e.t_s : nan;
-        for (int i = 0; i < 3; ++i) {
-          m.position_m[i] = e.ok ? e.position_m[i] : nan;
-          m.velocity_m_s[i] = e.ok ? e.velocity_m_s[i] : nan;
-        }
-        m.points = e.points;
-        m.lines = e.lines;
-        m.lines_received = w.lines_received;
-        m.lines_missing = w.lines_missing;
         m.cpu_us = static_cast<float>(cpu_us);
-        m.algorithm = to_string(lc.algorithm);
-        m.variant = to_string(lc.variant);
         bus.publish(channels::kEstimate, m);
         missing_lines += w.lines_missing;
         if (e.ok) {

@@ -107,17 +107,8 @@ int main(int argc, char** argv) {
         const double c0 = thread_cpu_us();
         const Stripe stripe = extractor.extract(image);
         const double cpu = thread_cpu_us() - c0;
-        stripe_profile_t p;
-        p.utime = m.utime;
-        p.image_index = m.image_index;
-        p.request_id = m.request_id;
-        p.scan_id = m.scan_id;
-        p.stripe_index = m.stripe_index;
-        for (int j = 0; j < 6; ++j) p.q[j] = m.q[j];
-        p.method = centre_method_name(options.method);
-        p.threshold = options.threshold;
+        stripe_profile_t p = profile_of(m, stripe, options);
         p.cpu_us = static_cast<float>(cpu);
-        set_rows(stripe, p);
         bus.publish(channels::kProfile, p);
         ++profiles;
         spdlog::debug("image {} (scan {} stripe {}): {} rows, {} runs dropped, {:.0f} us",

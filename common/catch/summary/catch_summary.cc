@@ -1,4 +1,4 @@
-#include "procs/catch/monitor/catch_summary.h"
+#include "common/catch/summary/catch_summary.h"
 
 #include <cmath>
 

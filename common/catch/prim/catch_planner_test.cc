@@ -1,4 +1,4 @@
-#include "procs/catch/prim/catch_planner.h"
+#include "common/catch/prim/catch_planner.h"
 
 #include <cmath>
 
