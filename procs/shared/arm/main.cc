@@ -66,6 +66,7 @@
 #include "procs/shared/arm/controlled_stop.h"
 #include "procs/shared/arm/execution_monitor.h"
 #include "procs/shared/arm/safety_gate.h"
+#include "procs/shared/arm/trajectory_delivery.h"
 
 namespace {
 
@@ -178,6 +179,7 @@ class ArmProcess {
     servo_ = s;
     servo_mono_us_ = ephor::mono_us();
     finish_if(monitor_.on_servo(s, ephor::mono_us()));
+    deliver();
   }
 
   // Task "command": validates, plans and sends every queued command in order.
@@ -198,6 +200,7 @@ class ArmProcess {
   void state_job() {
     std::lock_guard<std::mutex> lock(mutex_);
     finish_if(monitor_.on_tick(ephor::mono_us()));
+    deliver();
     if (const auto why = gate_.stop_reason(monitor_.busy(), ephor::mono_us())) {
       spdlog::error("{}", *why);
       stop_motion(*why);
@@ -243,9 +246,9 @@ class ArmProcess {
   void log_summary() const {
     spdlog::info(
         "commands: {} accepted, {} rejected, {} sent before this arm started (failed, not "
-        "executed), {} repeats answered, {} foreign ignored",
+        "executed), {} repeats answered, {} foreign ignored; trajectories sent again: {}",
         accepted_.load(), rejected_.load(), from_before_start_.load(), repeats_.load(),
-        foreign_.load());
+        foreign_.load(), resends_.load());
   }
 
  private:
@@ -372,11 +375,48 @@ class ArmProcess {
   void stop_motion(const std::string& why) {
     finish_if(monitor_.abort(why));
     if (!servo_) return;  // never heard the servo: nothing was sent to it
-    publish_trajectory(ephor::arm::controlled_stop(servo_->q, servo_->qd, arm_.limits()));
+    publish_trajectory(ephor::arm::controlled_stop(servo_->q, servo_->qd, arm_.limits()),
+                       /*stop=*/true);
   }
 
-  // Caller holds mutex_. Returns the trajectory's seq.
-  int64_t publish_trajectory(const ephor::arm::Trajectory& trajectory) {
+  // Sends the last trajectory again when the servo has not taken it up
+  // (TrajectoryDelivery: a lost datagram). Caller holds mutex_.
+  void deliver() {
+    if (!servo_) return;
+    const int64_t now = ephor::mono_us();
+    switch (delivery_.check(*servo_, now)) {
+      case ephor::arm::TrajectoryDelivery::Action::kNone:
+        return;
+      case ephor::arm::TrajectoryDelivery::Action::kResend: {
+        bus_.publish(ephor::channels::kArmTrajectory, last_trajectory_);
+        delivery_.resent(now);
+        const int64_t n = ++resends_;
+        if (n <= 10 || n % 100 == 0)
+          spdlog::warn("trajectory {} not taken up by the servo (lost?): sent again ({} so far)",
+                       last_trajectory_.seq, n);
+        return;
+      }
+      case ephor::arm::TrajectoryDelivery::Action::kReplanStop: {
+        const int64_t n = ++resends_;
+        if (n <= 10 || n % 100 == 0)
+          spdlog::warn(
+              "stop trajectory {} not taken up by the servo (lost?): stopping again "
+              "from where the arm is ({} so far)",
+              last_trajectory_.seq, n);
+        publish_trajectory(ephor::arm::controlled_stop(servo_->q, servo_->qd, arm_.limits()),
+                           /*stop=*/true);
+        return;
+      }
+      case ephor::arm::TrajectoryDelivery::Action::kGiveUp:
+        ++resends_;
+        finish_if(monitor_.abort(delivery_.why()));
+        return;
+    }
+  }
+
+  // Caller holds mutex_. Returns the trajectory's seq. `stop`: a controlled
+  // stop (sent again from where the arm is if lost), else a motion.
+  int64_t publish_trajectory(const ephor::arm::Trajectory& trajectory, bool stop) {
     ephor::joint_trajectory_t t;
     t.utime = ephor::wall_us();
     t.seq = ++next_trajectory_seq_;
@@ -387,14 +427,19 @@ class ArmProcess {
       t.qd.emplace_back(p.qd.data(), p.qd.data() + 6);
     }
     bus_.publish(ephor::channels::kArmTrajectory, t);
-    return t.seq;
+    const Joints first = !trajectory.points.empty() ? trajectory.points.front().q
+                         : servo_                   ? servo_->q
+                                                    : Joints::Zero();
+    delivery_.sent(t.seq, first, stop, ephor::mono_us());
+    last_trajectory_ = std::move(t);
+    return last_trajectory_.seq;
   }
 
   // Caller holds mutex_.
   void send(const ephor::arm_cmd_t& m, const ephor::arm::Validation& v,
             const ephor::arm::MotionPlan& plan) {
     finish_if(monitor_.preempt(m.seq));
-    const int64_t trajectory_seq = publish_trajectory(plan.trajectory);
+    const int64_t trajectory_seq = publish_trajectory(plan.trajectory, /*stop=*/false);
     monitor_.set_plane(m.plane);
     monitor_.start(m.seq, m.goal_id, trajectory_seq, plan.goal_q, plan.trajectory.duration_s(),
                    ephor::mono_us());
@@ -438,9 +483,11 @@ class ArmProcess {
   ephor::arm::SafetyGate gate_;
   int64_t executing_cmd_utime_ = 0;
   int64_t next_trajectory_seq_;
+  ephor::arm::TrajectoryDelivery delivery_;
+  ephor::joint_trajectory_t last_trajectory_;
 
   std::atomic<int64_t> accepted_{0}, rejected_{0}, repeats_{0}, foreign_{0}, bad_servo_{0},
-      from_before_start_{0};
+      from_before_start_{0}, resends_{0};
 };
 
 }  // namespace
