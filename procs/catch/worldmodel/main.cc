@@ -10,7 +10,9 @@
 //               the camera's pose), CATCH_SURVEY (catch_survey_t, the board in W)
 //   publishes   CATCH_WORLD (catch_world_t), one per CATCH_BALL once both
 //               poses are known
-//   tasks       model (triggered by CATCH_BALL: always the newest one)
+//   tasks       model (triggered by CATCH_BALL: always the newest one; with
+//               --every-ball every one in order, for replays that must give
+//               the live run's outputs again)
 
 #include <atomic>
 #include <cmath>
@@ -19,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -31,6 +34,7 @@
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
 #include "common/lcm/bus.h"
+#include "common/lcm/inbox.h"
 #include "common/lcm/mailbox.h"
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
@@ -107,6 +111,7 @@ int main(int argc, char** argv) {
   double duration_s = 0.0;
   bool no_pegs = false;
   int spread_samples = 0;
+  bool every_ball = false;
   app.add_option("--board", board_path, "board file (common/catch/board.proto)");
   app.add_flag("--no-pegs", no_pegs,
                "predict the exit as if the board had no pegs (ignore CATCH_PEGS)");
@@ -117,6 +122,9 @@ int main(int argc, char** argv) {
                  "survey error) rolled past the pegs, the point within the cup's capture radius "
                  "of the most (ExitSpread); 0 = the mean's prediction")
       ->check(CLI::Range(0, 1000));
+  app.add_flag("--every-ball", every_ball,
+               "take every CATCH_BALL in order instead of the newest (a replay: a measurement "
+               "skipped on a busy machine changes the filter's later states)");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = until signalled)");
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
@@ -132,6 +140,7 @@ int main(int argc, char** argv) {
     std::optional<BoardPlacement> placement;
     std::optional<BallWorldModel> model;
     Mailbox<catch_ball_t> balls;
+    Inbox<catch_ball_t> every(4096);  // --every-ball: 68 s of frames at 60 Hz
     std::atomic<int64_t> bad_messages{0}, published{0};
 
     bus.subscribe<catch_board_pose_t>(
@@ -187,14 +196,14 @@ int main(int argc, char** argv) {
       if (!pegs) pegs.emplace(std::move(centres), 0.5 * m.peg_diameter_mm);
     });
     bus.subscribe<catch_ball_t>(catching::channels::kBall, [&](const catch_ball_t& m) {
-      balls.put(m);
+      if (every_ball)
+        every.push(m);
+      else
+        balls.put(m);
       runtime.trigger("model");
     });
 
-    runtime.add_triggered("model", std::chrono::milliseconds(8), [&] {
-      auto ball = balls.take();
-      if (!ball) return;
-      std::lock_guard<std::mutex> lock(mutex);
+    const auto model_one = [&](const catch_ball_t* ball) {
       if (!model) {
         if (!board_to_camera || !placement) return;  // not initialised yet
         BallWorldModelParams params;
@@ -220,6 +229,16 @@ int main(int argc, char** argv) {
       out.latency_ms = static_cast<float>(static_cast<double>(wall_us() - ball->utime) / 1e3);
       bus.publish(catching::channels::kWorld, out);
       ++published;
+    };
+    runtime.add_triggered("model", std::chrono::milliseconds(8), [&] {
+      std::vector<catch_ball_t> todo;
+      if (every_ball) {
+        todo = every.drain();
+      } else if (auto newest = balls.take()) {
+        todo.push_back(std::move(*newest));
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const catch_ball_t& ball : todo) model_one(&ball);
     });
 
     runtime.start();

