@@ -59,6 +59,10 @@ std::string ply_header_problem(const std::string& path) {
     std::vector<std::string> rest;
     for (std::string w; words >> w;) rest.push_back(w);
     if (n == 1 && word != "format") return "header line 2 is not its format";
+    // PCL's comment and obj_info callbacks assert that the line begins with
+    // the keyword (a leading space aborted the process: fuzz_stripe_cloud_ply).
+    if (line.compare(0, word.size(), word) != 0)
+      return "header line " + std::to_string(n + 1) + " begins with a space";
     if (word != "comment" && word != "obj_info") {
       std::string canonical = word;
       for (const std::string& w : rest) canonical += " " + w;

@@ -106,11 +106,15 @@ TEST(CloudFileTest, AHeaderPclWouldAbortOnIsRefused) {
       "property float y\nproperty float z\nend_header\n\nobj_info uchar\n",
       "header line 1 has a control byte");
   refused(
-      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n property float y\n"
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty  float y\n"
       "property float z\nend_header\n",
       "header line 5: words not one space apart");
   refused("ply\ncomment first\nformat ascii 1.0\nelement vertex 0\nend_header\n",
           "header line 2 is not its format");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+      "property float z\n  obj_info int .e\nend_header\n",
+      "header line 7 begins with a space");
   std::filesystem::remove(path);
 }
 
