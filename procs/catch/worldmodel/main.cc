@@ -45,61 +45,10 @@
 #include "ephor/catch_pegs_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
-
-namespace {
+#include "procs/catch/worldmodel/world_message.h"
 
 using namespace ephor;
 using namespace ephor::catching;
-
-catch_world_t to_message(const BallFrame& f, const catch_ball_t& ball) {
-  catch_world_t m{};
-  m.utime = ball.utime;
-  m.frame_index = ball.frame_index;
-  m.ball_id = f.ball_id;
-  switch (f.status) {
-    case BallStatus::kNoBall:
-      m.status = catch_world_t::STATUS_NO_BALL;
-      break;
-    case BallStatus::kTracking:
-      m.status = catch_world_t::STATUS_TRACKING;
-      break;
-    case BallStatus::kRejected:
-      m.status = catch_world_t::STATUS_REJECTED;
-      break;
-    case BallStatus::kExited:
-      m.status = catch_world_t::STATUS_EXITED;
-      break;
-  }
-  if (f.reason != RejectReason::kNone) m.reason = to_string(f.reason);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (int k = 0; k < 2; ++k) {
-    m.position_b_mm[k] = f.has_state ? f.position_b_mm[k] : nan;
-    m.velocity_b_mm_s[k] = f.has_state ? f.velocity_b_mm_s[k] : nan;
-    m.measured_b_mm[k] = f.has_measurement ? f.measured_b_mm[k] : nan;
-  }
-  for (int k = 0; k < 3; ++k) m.position_w_mm[k] = f.has_state ? f.position_w_mm[k] : nan;
-  m.has_prediction = f.has_prediction;
-  if (f.has_prediction) {
-    m.exit_x_b_mm = f.exit.exit_x_b_mm;
-    m.exit_sigma_mm = f.exit.sigma_exit_x_mm;
-    m.exit_utime = f.exit_utime;
-    m.exit_sigma_s = f.exit.sigma_exit_time_s;
-    for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.exit.catch_point_w_mm[k];
-    m.catch_utime = f.catch_utime;
-    if (f.has_spread) {
-      // With --spread-samples: the exit and catch point Prim aims at are the
-      // cover of the prediction's spread (ExitSpread), not the mean's, and
-      // the exit's sigma is the standard deviation of the sampled exits.
-      m.exit_x_b_mm = f.spread.cover_exit_x_b_mm;
-      m.exit_sigma_mm = f.spread.exit_x_sd_mm;
-      for (int k = 0; k < 3; ++k) m.catch_point_w_mm[k] = f.spread.cover_point_w_mm[k];
-      m.catch_utime = f.cover_catch_utime;
-    }
-  }
-  return m;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   block_shutdown_signals();
@@ -216,16 +165,11 @@ int main(int argc, char** argv) {
         model->set_pegs(pegs->first, pegs->second);
         pegs_applied = true;
       }
-      std::optional<Eigen::Vector2d> centroid;
-      if (ball->found) {
-        if (!std::isfinite(ball->u) || !std::isfinite(ball->v)) {
-          ++bad_messages;
-        } else {
-          centroid = Eigen::Vector2d(ball->u, ball->v);
-        }
-      }
+      bool bad = false;
+      const std::optional<Eigen::Vector2d> centroid = centroid_of(*ball, &bad);
+      if (bad) ++bad_messages;
       const BallFrame& f = model->update(ball->utime, centroid);
-      catch_world_t out = to_message(f, *ball);
+      catch_world_t out = world_message_of(f, *ball);
       out.latency_ms = static_cast<float>(static_cast<double>(wall_us() - ball->utime) / 1e3);
       bus.publish(catching::channels::kWorld, out);
       ++published;
