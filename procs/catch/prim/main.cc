@@ -41,6 +41,7 @@
 #include "ephor/catch_board_pose_t.hpp"
 #include "ephor/catch_survey_t.hpp"
 #include "ephor/catch_world_t.hpp"
+#include "procs/catch/prim/prim_messages.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -129,8 +130,8 @@ int main(int argc, char** argv) {
           camera_ready = camera_ready || m.valid;
         });
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      const Eigen::Vector3d p(m.x_mm, m.y_mm, m.z_mm);
-      if (!p.allFinite()) return;
+      const auto p = cup_of(m);
+      if (!p) return;
       std::lock_guard<std::mutex> lock(mutex);
       cup = p;
     });
@@ -144,31 +145,13 @@ int main(int argc, char** argv) {
       if (!world) return;
       std::lock_guard<std::mutex> lock(mutex);
       if (!planner || !cup || !camera_ready) return;
-      std::optional<CatchPrediction> prediction;
-      if (world->has_prediction && world->status != catch_world_t::STATUS_NO_BALL) {
-        CatchPrediction p;
-        p.ball_id = world->ball_id;
-        p.catch_utime = world->catch_utime;
-        p.catch_point_w_mm = Eigen::Vector3d(world->catch_point_w_mm[0], world->catch_point_w_mm[1],
-                                             world->catch_point_w_mm[2]);
-        p.sigma_mm = world->exit_sigma_mm;
-        if (p.catch_point_w_mm.allFinite() && std::isfinite(p.sigma_mm)) {
-          prediction = p;
-        } else {
-          ++bad_messages;
-        }
-      }
+      bool bad = false;
+      const std::optional<CatchPrediction> prediction = prediction_of(*world, &bad);
+      if (bad) ++bad_messages;
       const CatchGoal g = planner->step(wall_us(), prediction, *cup);
       if (!g.send) return;
-      arm_goal_t msg{};
+      arm_goal_t msg = goal_message_of(g, *world, run_id);
       msg.utime = wall_us();
-      msg.goal_id = run_id + g.goal_id;
-      msg.kind = arm_goal_t::KIND_POSE;
-      for (int k = 0; k < 3; ++k) msg.position_mm[k] = g.point_w_mm[k];
-      msg.theta_rad = 0.0f;
-      msg.max_speed_mm_s = 0.0f;  // the arm's own cap
-      msg.source_frame_utime = world->utime;
-      msg.target_object = world->ball_id;
       bus.publish(ephor::channels::kArmGoal, msg);
       ++goals;
       spdlog::debug("goal {} ({}): ({:.0f}, {:.0f}, {:.0f}) mm{}", g.goal_id, to_string(g.reason),
