@@ -107,7 +107,8 @@ void BallKalmanFilter::predict(double dt_s) {
     x_(1) += x_(3) * t + 0.5 * a * t * t;
     x_(3) += a * t;
   } else {
-    const int steps = std::max(1, static_cast<int>(std::ceil(t / 0.002)));
+    // 2 ms steps, at most 100 000 (a longer step is coarser, still defined).
+    const int steps = static_cast<int>(std::clamp(std::ceil(t / 0.002), 1.0, 1e5));
     const double h = t / steps;
     for (int k = 0; k < steps; ++k) {
       const Eigen::Vector2d p0 = x_.head<2>();

@@ -35,7 +35,7 @@ namespace ephor::catching {
 enum class RejectReason {
   kNone = 0,
   kNoIntersection,  // the pixel's ray does not meet the board plane
-  kNotFinite,       // NaN or infinite input
+  kNotFinite,       // NaN or infinite input, or a capture time out of range
   kOutOfOrder,      // capture time not after the last accepted sample's
   kOffBoard,        // outside [0, width] x [0, height] plus the margin
   kJump,            // farther from the last accepted point than the ball can roll

@@ -1,5 +1,6 @@
 #include "common/catch/worldmodel/ball_world_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -26,7 +27,17 @@ BallKalmanParams with_acceleration(BallKalmanParams p, const BoardPlacement& pla
   return p;
 }
 
-int64_t to_utime(double s) { return static_cast<int64_t>(std::llround(s * 1e6)); }
+// Seconds as us, saturated to +-1e6 s (a prediction further ahead is no
+// prediction; llround of a value beyond int64 is undefined).
+int64_t to_utime(double s) {
+  if (!std::isfinite(s)) return 0;
+  return static_cast<int64_t>(std::llround(std::clamp(s, -1e6, 1e6) * 1e6));
+}
+
+// Capture times beyond this (us, year 148 000) or negative are refused, so
+// that every difference and sum of times below stays within int64 (found by
+// the fuzz target catch_world_model).
+constexpr int64_t kMaxCaptureUtime = int64_t{1} << 62;
 
 }  // namespace
 
@@ -90,6 +101,13 @@ void BallWorldModel::fill_state() {
 const BallFrame& BallWorldModel::update(int64_t capture_utime,
                                         const std::optional<Eigen::Vector2d>& centroid_px) {
   ++frames_;
+  if (capture_utime < 0 || capture_utime > kMaxCaptureUtime) {
+    frame_.status = BallStatus::kRejected;
+    frame_.reason = RejectReason::kNotFinite;
+    frame_.acquired = false;
+    frame_.bounce = false;
+    return frame_;
+  }
   if (has_time_ && capture_utime <= last_utime_) {
     ++out_of_order_;
     frame_.status = BallStatus::kRejected;
@@ -113,6 +131,13 @@ const BallFrame& BallWorldModel::update(int64_t capture_utime,
 
   if (phase_ == Phase::kExited &&
       1e-6 * static_cast<double>(capture_utime - exited_utime_) > params_.exited_hold_s) {
+    drop_track();
+  }
+  // A gap longer than the coast limit (a stalled camera, a paused log): the
+  // ball is lost, not predicted across (the filter would step through the
+  // pegs for every 2 ms of it; a ball crosses the board in about a second).
+  if (phase_ == Phase::kTracking && dt_s > params_.coast_limit_s) {
+    ++lost_;
     drop_track();
   }
   if (phase_ == Phase::kTracking) filter_.predict(dt_s);

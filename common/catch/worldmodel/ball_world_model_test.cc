@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -192,6 +193,34 @@ TEST_F(BallWorldModelTest, OutOfOrderFrameChangesNothing) {
   EXPECT_EQ(f.reason, RejectReason::kOutOfOrder);
   EXPECT_EQ(wm.filter().position(), before);
   EXPECT_EQ(wm.out_of_order(), 1);
+}
+
+// Found by the fuzz target catch_world_model: a capture time years after the
+// last one made the filter's step count overflow int (UB) and step the pegs
+// for hours; times far apart overflowed int64.
+TEST_F(BallWorldModelTest, AGapLongerThanTheCoastLimitLosesTheBall) {
+  BallWorldModel wm = make();
+  int64_t t = 1'700'000'000'000'000;
+  for (const auto& s : roll({300.0, 40.0}, {0.0, 50.0})) {
+    wm.update(t, pixel_of(s.position_mm));
+    t += kFrameUs;
+    if (s.position_mm.y() > 200.0) break;
+  }
+  ASSERT_EQ(wm.last().status, BallStatus::kTracking);
+  const BallFrame& f = wm.update(t + int64_t{1'000'000'000'000'000}, std::nullopt);
+  EXPECT_EQ(f.status, BallStatus::kNoBall);
+  EXPECT_EQ(wm.lost(), 1);
+}
+
+TEST_F(BallWorldModelTest, ACaptureTimeOutOfRangeIsRefused) {
+  BallWorldModel wm = make();
+  for (const int64_t t :
+       {int64_t{-5}, std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max()}) {
+    const BallFrame& f = wm.update(t, pixel_of({300.0, 100.0}));
+    EXPECT_EQ(f.status, BallStatus::kRejected) << t;
+    EXPECT_EQ(f.reason, RejectReason::kNotFinite) << t;
+  }
+  EXPECT_EQ(wm.update(100'000, std::nullopt).status, BallStatus::kNoBall);  // nothing kept
 }
 
 }  // namespace
