@@ -41,26 +41,13 @@
 #include "ephor/shepherd_planner_cmd_t.hpp"
 #include "ephor/shepherd_planner_status_t.hpp"
 #include "procs/shepherd/planner/planner.h"
+#include "procs/shepherd/planner/planner_messages.h"
 #include "procs/shepherd/planner/workcell_agreement.h"
 
 namespace {
 
 using ephor::calibration::FieldCalibration;
 namespace planner = ephor::planner;
-
-// The plane ARM_STATE says the tool rests on: none while moving or before
-// the first completed motion.
-std::optional<planner::Plane> arm_plane(const ephor::arm_state_t& arm) {
-  if (arm.moving) return std::nullopt;
-  if (arm.plane == ephor::arm_goal_t::PLANE_OBJECT) return planner::Plane::kObject;
-  if (arm.plane == ephor::arm_goal_t::PLANE_ELEVATION) return planner::Plane::kElevation;
-  return std::nullopt;
-}
-
-ephor::calibration::Plane to_calibration_plane(planner::Plane p) {
-  return p == planner::Plane::kObject ? ephor::calibration::Plane::kObject
-                                      : ephor::calibration::Plane::kElevation;
-}
 
 // motion_done events, written by the LCM thread, drained by the plan job.
 class DoneQueue {
@@ -113,7 +100,7 @@ class PlanJob {
     const int64_t start_ns = ephor::mono_ns();
     apply_planner_cmd();
     for (const auto& d : done_->take()) {
-      if (!planner_->on_motion_done(d.goal_id - goal_id_offset_, d.ok)) {
+      if (!planner_->on_motion_done(planner::planner_goal_id(d.goal_id, goal_id_offset_), d.ok)) {
         spdlog::debug("motion_done for goal {} ignored (not the goal outstanding)", d.goal_id);
       } else if (!d.ok) {
         spdlog::debug("goal {} failed; replanning after a back-off", d.goal_id);
@@ -130,7 +117,8 @@ class PlanJob {
     scene.now_s = static_cast<double>(start_ns) * 1e-9;
     scene.arm = arm_model_;
     if (const auto arm = arm_state_->latest()) {
-      if (const auto message = agreement_.update(arm_plane(*arm), static_cast<double>(arm->z_mm))) {
+      if (const auto message =
+              agreement_.update(planner::arm_plane(*arm), static_cast<double>(arm->z_mm))) {
         if (agreement_.agrees()) {
           spdlog::info("{}", *message);
         } else {
@@ -143,26 +131,8 @@ class PlanJob {
         publish_status(st, objects->utime, 0.0f);
         return;
       }
-      if (std::isfinite(arm->x_mm) && std::isfinite(arm->y_mm) && std::isfinite(arm->z_mm)) {
-        scene.arm.x_mm = static_cast<double>(arm->x_mm);
-        scene.arm.y_mm = static_cast<double>(arm->y_mm);
-        scene.arm.lowered = static_cast<double>(arm->z_mm) <
-                            0.5 * (workcell_.elevation_plane_z_mm + workcell_.object_plane_z_mm);
-        // The joints count only when they put the tool where ARM_STATE says
-        // it is (a sender without joints leaves them zero).
-        scene.arm.joints_known = true;
-        ephor::arm::Joints q;
-        for (size_t i = 0; i < 6; ++i) {
-          scene.arm.joints_rad[i] = arm->q[i];
-          q(static_cast<int>(i)) = arm->q[i];
-          if (!std::isfinite(arm->q[i])) scene.arm.joints_known = false;
-        }
-        if (scene.arm.joints_known) {
-          const Eigen::Vector3d tip = ephor::arm::tool_in_field(workcell_, q).tip_mm;
-          if (std::hypot(tip.x() - scene.arm.x_mm, tip.y() - scene.arm.y_mm) > 20.0) {
-            scene.arm.joints_known = false;
-          }
-        }
+      if (const auto model = planner::arm_model_of(*arm, arm_model_, workcell_)) {
+        scene.arm = *model;
       } else {
         ++bad_arm_states_;
         spdlog::warn("arm_state with a non-finite tool position ignored ({} so far)",
@@ -175,25 +145,13 @@ class PlanJob {
     }
     scene.sheep.reserve(objects->objects.size());
     for (const ephor::shepherd_object_t& o : objects->objects) {
-      planner::Sheep s;
-      s.id = o.id;
-      s.x_mm = static_cast<double>(o.x_mm);
-      s.y_mm = static_cast<double>(o.y_mm);
-      s.vx_mm_s = static_cast<double>(o.vx_mm_s);
-      s.vy_mm_s = static_cast<double>(o.vy_mm_s);
-      if (o.state == ephor::shepherd_object_t::STATE_VISIBLE) {
-        s.state = planner::SheepState::kVisible;
-      } else if (o.state == ephor::shepherd_object_t::STATE_OBSCURED) {
-        s.state = planner::SheepState::kObscured;
-      } else if (o.state == ephor::shepherd_object_t::STATE_DEAD) {
-        s.state = planner::SheepState::kDead;
+      if (const auto s = planner::sheep_of(o)) {
+        scene.sheep.push_back(*s);
       } else {
         ++bad_objects_;
         spdlog::warn("object {} with unknown state {} ignored ({} so far)", o.id,
                      static_cast<int>(o.state), bad_objects_);
-        continue;
       }
-      scene.sheep.push_back(s);
     }
 
     const auto goal = planner_->plan(scene);
@@ -210,31 +168,14 @@ class PlanJob {
 
  private:
   void publish_goal(const planner::Goal& goal, int64_t source_utime) {
-    const auto plane = to_calibration_plane(goal.plane);
-    const Eigen::Vector2d p = calibration_.field_to_image(goal.x_mm, goal.y_mm, plane);
-    // Orientation: the image direction of a short step along theta in F.
-    const Eigen::Vector2d q =
-        calibration_.field_to_image(goal.x_mm + 10.0 * std::cos(goal.theta_rad),
-                                    goal.y_mm + 10.0 * std::sin(goal.theta_rad), plane);
-    ephor::arm_goal_t msg{};
-    msg.kind = ephor::arm_goal_t::KIND_IMAGE;
+    ephor::arm_goal_t msg =
+        planner::goal_message_of(goal, calibration_, goal_id_offset_, source_utime);
     msg.utime = ephor::wall_us();
-    msg.goal_id = goal.goal_id + goal_id_offset_;
-    msg.plane = goal.plane == planner::Plane::kObject ? ephor::arm_goal_t::PLANE_OBJECT
-                                                      : ephor::arm_goal_t::PLANE_ELEVATION;
-    msg.u = static_cast<float>(p.x());
-    msg.v = static_cast<float>(p.y());
-    msg.theta_rad = static_cast<float>(std::atan2(q.y() - p.y(), q.x() - p.x()));
-    // The arm's own cap: --arm-speed-mm-s is what the planner assumes (set it
-    // lower than the cap to plan conservatively), not a request to slow down.
-    msg.max_speed_mm_s = 0.0f;
-    msg.source_frame_utime = source_utime;
-    msg.target_object = goal.target;
     bus_.publish(ephor::channels::kArmGoal, msg);
     spdlog::info("goal {} {} plane ({:.0f}, {:.0f}) mm = ({:.1f}, {:.1f}) px, sheep {}",
                  goal.goal_id + goal_id_offset_,
                  goal.plane == planner::Plane::kObject ? "object" : "elevation", goal.x_mm,
-                 goal.y_mm, p.x(), p.y(), goal.target);
+                 goal.y_mm, msg.u, msg.v, goal.target);
   }
 
   // PLANNER_CMD (from ephor-display): switch planners between jobs. The new
@@ -259,19 +200,8 @@ class PlanJob {
   }
 
   void publish_status(const planner::PlannerStatus& st, int64_t source_utime, float planning_us) {
-    ephor::shepherd_planner_status_t msg{};
-    msg.utime = source_utime;
-    msg.planner = planner_->kind();
-    msg.phase = st.phase;
-    msg.target_object = st.target;
-    const Eigen::Vector2d ic = calibration_.field_to_image(st.intercept_x_mm, st.intercept_y_mm,
-                                                           ephor::calibration::Plane::kObject);
-    msg.intercept_u = static_cast<float>(ic.x());
-    msg.intercept_v = static_cast<float>(ic.y());
-    msg.intercept_time_s = static_cast<float>(st.intercept_time_s);
-    msg.num_candidates = st.num_candidates;
-    msg.planning_us = planning_us;
-    msg.goal_id = st.goal_id + goal_id_offset_;
+    ephor::shepherd_planner_status_t msg = planner::status_message_of(
+        st, planner_->kind(), calibration_, goal_id_offset_, source_utime, planning_us);
     bus_.publish(ephor::channels::kPlannerStatus, msg);
   }
 

@@ -34,61 +34,11 @@
 #include "common/time/clock.h"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_objects_t.hpp"
+#include "procs/shepherd/worldmodel/worldmodel_messages.h"
 
 namespace {
 
-using ephor::worldmodel::ObjectState;
 using ephor::worldmodel::WorldModel;
-
-ephor::worldmodel::BlobFrame to_frame(const ephor::shepherd_blobs_t& msg) {
-  ephor::worldmodel::BlobFrame frame;
-  frame.utime_us = msg.utime;
-  frame.frame_index = msg.frame_index;
-  frame.blobs.reserve(msg.blobs.size());
-  for (const auto& b : msg.blobs)
-    frame.blobs.push_back({{static_cast<double>(b.u), static_cast<double>(b.v)}, b.area});
-  return frame;
-}
-
-int8_t to_state(ObjectState s) {
-  switch (s) {
-    case ObjectState::kVisible:
-      return ephor::shepherd_object_t::STATE_VISIBLE;
-    case ObjectState::kObscured:
-      return ephor::shepherd_object_t::STATE_OBSCURED;
-    case ObjectState::kDead:
-      return ephor::shepherd_object_t::STATE_DEAD;
-  }
-  return ephor::shepherd_object_t::STATE_DEAD;
-}
-
-ephor::shepherd_objects_t to_message(const WorldModel& wm, int64_t frame_index) {
-  ephor::shepherd_objects_t msg;
-  msg.utime = wm.last_utime_us();
-  msg.frame_index = frame_index;
-  for (const auto& o : wm.objects()) {
-    ephor::shepherd_object_t m;
-    m.id = o.id;
-    m.state = to_state(o.state);
-    m.u = static_cast<float>(o.position_px.x());
-    m.v = static_cast<float>(o.position_px.y());
-    m.x_mm = static_cast<float>(o.position_mm.x());
-    m.y_mm = static_cast<float>(o.position_mm.y());
-    m.vu_px_s = static_cast<float>(o.velocity_px_s.x());
-    m.vv_px_s = static_cast<float>(o.velocity_px_s.y());
-    m.vx_mm_s = static_cast<float>(o.velocity_mm_s.x());
-    m.vy_mm_s = static_cast<float>(o.velocity_mm_s.y());
-    m.since_seen_s = static_cast<float>(o.since_seen_s);
-    m.area = o.area_px;
-    m.vu_raw_px_s = static_cast<float>(o.velocity_raw_px_s.x());
-    m.vv_raw_px_s = static_cast<float>(o.velocity_raw_px_s.y());
-    m.vu_first_px_s = static_cast<float>(o.velocity_first_px_s.x());
-    m.vv_first_px_s = static_cast<float>(o.velocity_first_px_s.y());
-    msg.objects.push_back(m);
-  }
-  msg.num_objects = static_cast<int32_t>(msg.objects.size());
-  return msg;
-}
 
 // One job of "associate": the newest blobs -> objects.
 class Associate {
@@ -100,14 +50,14 @@ class Associate {
   void operator()() {
     auto msg = box_->take();
     if (!msg) return;
-    if (msg->num_blobs != static_cast<int32_t>(msg->blobs.size())) {
+    if (!ephor::worldmodel::blobs_consistent(*msg)) {
       // lcm-gen sizes the array from num_blobs, so this is a broken sender.
       spdlog::warn("BLOBS frame {}: num_blobs {} but {} blobs; ignored", msg->frame_index,
                    msg->num_blobs, msg->blobs.size());
       return;
     }
     const auto before = wm_.counters();
-    const auto result = wm_.process(to_frame(*msg));
+    const auto result = wm_.process(ephor::worldmodel::frame_of(*msg));
     const auto& after = wm_.counters();
     if (result == WorldModel::FrameResult::kDuplicate) {
       warn_every("duplicate frame (utime " + std::to_string(msg->utime) + ") ignored");
@@ -122,7 +72,7 @@ class Associate {
       warn_every("frame " + std::to_string(msg->frame_index) + ": " +
                  std::to_string(after.invalid_blobs - before.invalid_blobs) +
                  " blob(s) with a non-finite centre or area <= 0 ignored");
-    auto out = to_message(wm_, msg->frame_index);
+    auto out = ephor::worldmodel::objects_message_of(wm_, msg->frame_index);
     bus_.publish(ephor::channels::kObjects, out);
     for (const auto& event : wm_.take_events())
       spdlog::info("{}", event);  // rare: a birth or death
