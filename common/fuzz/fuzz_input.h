@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace ephor::fuzz {
 
@@ -72,6 +73,70 @@ class FuzzBytes {
   size_t size_;
   size_t pos_ = 0;
 };
+
+// A stream of bus messages, for the targets that run a process's LCM
+// handlers. Each record: a byte naming the channel (taken mod `channels`),
+// two bytes of clock step (us / 4, little-endian: 0-262 ms), two bytes of
+// length (little-endian), then that many bytes of the message as LCM encodes
+// it. The stream ends at the first record that does not fit, one longer than
+// `max_len`, or after `max_messages`.
+struct FuzzMessage {
+  int channel = 0;
+  int64_t step_us = 0;
+  const uint8_t* bytes = nullptr;
+  int size = 0;
+
+  // Decodes as the bus does: a message that does not decode to its full size
+  // is dropped (false).
+  template <typename T>
+  bool decode(T& out) const {
+    return out.decode(bytes, 0, size) == size;
+  }
+};
+
+class FuzzMessageStream {
+ public:
+  FuzzMessageStream(const uint8_t* data, size_t size, int channels, size_t max_len = 4096,
+                    int max_messages = 256)
+      : data_(data), size_(size), channels_(channels), max_len_(max_len), left_(max_messages) {}
+
+  bool next(FuzzMessage& m) {
+    if (left_ <= 0 || pos_ + 5 > size_) return false;
+    const uint8_t* r = data_ + pos_;
+    const size_t len = static_cast<size_t>(r[3] | (r[4] << 8));
+    if (len > max_len_ || len > size_ - pos_ - 5) return false;
+    m.channel = r[0] % channels_;
+    m.step_us = 4 * static_cast<int64_t>(r[1] | (r[2] << 8));
+    m.bytes = r + 5;
+    m.size = static_cast<int>(len);
+    pos_ += 5 + len;
+    --left_;
+    return true;
+  }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+  int channels_;
+  size_t max_len_;
+  int left_;
+  size_t pos_ = 0;
+};
+
+// Appends one record of a FuzzMessageStream: for seed corpora and unit tests.
+template <typename T>
+void append_message(std::vector<uint8_t>& out, int channel, int64_t step_us, const T& message) {
+  const int n = message.getEncodedSize();
+  std::vector<uint8_t> bytes(static_cast<size_t>(n));
+  message.encode(bytes.data(), 0, n);
+  const auto step = static_cast<uint16_t>(std::clamp<int64_t>(step_us / 4, 0, 65535));
+  out.push_back(static_cast<uint8_t>(channel));
+  out.push_back(static_cast<uint8_t>(step & 0xff));
+  out.push_back(static_cast<uint8_t>(step >> 8));
+  out.push_back(static_cast<uint8_t>(n & 0xff));
+  out.push_back(static_cast<uint8_t>((n >> 8) & 0xff));
+  out.insert(out.end(), bytes.begin(), bytes.end());
+}
 
 // A broken invariant: prints `what` and aborts, so libFuzzer (and the corpus
 // runner) report the input as a crash.

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "common/runtime/counts.h"
+
 namespace ephor::catching {
 
 namespace {
@@ -202,7 +204,7 @@ nlohmann::json CatchSummary::to_json() const {
   bool rt = !hosts_.empty();
   for (const auto& [host, h] : hosts_) {
     rt = rt && h.first;
-    misses += h.second;
+    misses = add_count(misses, h.second);
   }
   j["deadline_misses"] = misses;
   j["tasks"] = tasks_;

@@ -1,6 +1,10 @@
 #include "common/catch/summary/catch_summary.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
+
+#include "common/log/json_text.h"
 
 namespace ephor::catching {
 namespace {
@@ -18,6 +22,29 @@ TEST(CatchSummary, CountsEachBallOnceWithItsReason) {
   EXPECT_EQ(j["oracle_reachable"], 2);
   ASSERT_EQ(j["missed"].size(), 1u);
   EXPECT_EQ(j["missed"][0]["reason"], "cup 43 mm from the ball's path");
+}
+
+// Strings in the summary come off the bus (a task's name, a miss's reason) and
+// may be any bytes: the summary is still written (json_text), where nlohmann's
+// dump() threw and ephor-catch-monitor lost the whole summary at exit.
+TEST(CatchSummary, IsWrittenWhateverBytesTheStringsCarry) {
+  CatchSummary s(7);
+  s.on_truth(4000, false, {0, 0}, 0, false, true, "cup \xff\xfe far",
+             Eigen::Isometry3d::Identity());
+  s.on_task("vision\xc3", "blobify", 900, 1500, 10, 0);
+  EXPECT_THROW((void)s.to_json().dump(), nlohmann::json::type_error);
+  const std::string text = json_text(s.to_json(), 2);
+  EXPECT_NE(text.find("cup \xef\xbf\xbd\xef\xbf\xbd far"), std::string::npos);  // U+FFFD twice
+}
+
+// Deadline misses are summed over hosts from the wire: a corrupt count must
+// not overflow the sum (undefined behaviour) or make it negative.
+TEST(CatchSummary, DeadlineMissesFromTheWireSaturate) {
+  CatchSummary s(7);
+  s.on_sched_status("a", true, std::numeric_limits<int64_t>::max());
+  s.on_sched_status("b", true, 5);
+  s.on_sched_status("c", true, -7);
+  EXPECT_EQ(s.to_json()["deadline_misses"], std::numeric_limits<int64_t>::max());
 }
 
 TEST(CatchSummary, ScoresWorldOutputsAgainstTheTruthOfTheirFrame) {

@@ -14,27 +14,12 @@
 #include "common/catch/summary/catch_summary.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
+#include "common/log/json_text.h"
 #include "common/log/log.h"
 #include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
-#include "ephor/catch_board_pose_t.hpp"
-#include "ephor/catch_truth_t.hpp"
-#include "ephor/catch_world_t.hpp"
-#include "ephor/sched_status_t.hpp"
-
-namespace {
-
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
-
-}  // namespace
+#include "procs/catch/monitor/catch_monitor_feed.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -57,44 +42,24 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     std::mutex mutex;
     CatchSummary summary(seed);
-    int last_logged = -1;
+    CatchMonitorFeed feed(summary);
 
     bus.subscribe<catch_truth_t>(catching::channels::kTruth, [&](const catch_truth_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      summary.on_truth(m.utime, m.phase == catch_truth_t::PHASE_ROLLING,
-                       Eigen::Vector2d(m.ball_b_mm[0], m.ball_b_mm[1]), m.last_ball, m.last_caught,
-                       m.last_oracle_reachable, m.last_reason,
-                       pose_of(m.board_to_camera_r, m.board_to_camera_t_mm));
-      summary.on_ball_truth(m.utime, m.ball, m.phase == catch_truth_t::PHASE_ROLLING,
-                            Eigen::Vector2d(m.ball_b_mm[0], m.ball_b_mm[1]), m.exit_x_b_mm,
-                            m.exit_utime);
-      if (m.last_ball >= 0 && m.last_ball != last_logged) {
-        last_logged = m.last_ball;
-        spdlog::info("ball {}: {}{}", m.last_ball, m.last_caught ? "" : "missed: ", m.last_reason);
-      }
+      if (const auto line = feed.on_truth(m)) spdlog::info("{}", *line);
     });
     bus.subscribe<catch_world_t>(catching::channels::kWorld, [&](const catch_world_t& m) {
-      std::optional<Eigen::Vector2d> p;
-      if (m.status == catch_world_t::STATUS_TRACKING)
-        p = Eigen::Vector2d(m.position_b_mm[0], m.position_b_mm[1]);
       std::lock_guard<std::mutex> lock(mutex);
-      summary.on_world(m.utime, m.latency_ms, p);
-      summary.on_prediction(m.utime, m.status == catch_world_t::STATUS_TRACKING,
-                            m.has_prediction != 0, m.exit_x_b_mm, p);
+      feed.on_world(m);
     });
     bus.subscribe<catch_board_pose_t>(catching::channels::kBoardPose,
                                       [&](const catch_board_pose_t& m) {
-                                        if (!m.valid) return;
                                         std::lock_guard<std::mutex> lock(mutex);
-                                        summary.on_board_pose(pose_of(m.r, m.t_mm));
+                                        feed.on_board_pose(m);
                                       });
     bus.subscribe<sched_status_t>(ephor::channels::kSchedStatus, [&](const sched_status_t& m) {
-      int64_t misses = 0;
-      for (const auto& t : m.tasks) misses += t.deadline_misses;
       std::lock_guard<std::mutex> lock(mutex);
-      summary.on_sched_status(m.host, m.rt != 0, misses);
-      for (const auto& t : m.tasks)
-        summary.on_task(t.process, t.task, t.exec_p50_us, t.exec_p99_us, t.jobs, t.deadline_misses);
+      feed.on_sched_status(m);
     });
     bus.start();
 
@@ -109,7 +74,7 @@ int main(int argc, char** argv) {
     if (!summary_path.empty()) {
       std::ofstream out(summary_path);
       if (!out) throw std::runtime_error("cannot write summary to " + summary_path);
-      out << summary.to_json().dump(2) << "\n";
+      out << json_text(summary.to_json(), 2) << "\n";
       spdlog::info("summary written to {}", summary_path);
     }
   } catch (const std::exception& e) {

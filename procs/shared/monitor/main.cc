@@ -4,25 +4,19 @@
 // simulator's ground truth. Not a real-time task: it only listens.
 
 #include <fstream>
-#include <map>
 #include <mutex>
-#include <set>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
+#include "common/log/json_text.h"
 #include "common/log/log.h"
 #include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
-#include "ephor/arm_cmd_t.hpp"
-#include "ephor/arm_goal_t.hpp"
-#include "ephor/sched_status_t.hpp"
-#include "ephor/shepherd_blobs_t.hpp"
-#include "ephor/shepherd_ground_truth_t.hpp"
-#include "ephor/shepherd_objects_t.hpp"
+#include "procs/shared/monitor/monitor_feed.h"
 #include "procs/shared/monitor/run_monitor.h"
 
 int main(int argc, char** argv) {
@@ -45,55 +39,31 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     std::mutex mutex;
     monitor::RunMonitor mon(scenario);
-    std::map<std::string, std::pair<bool, int64_t>> hosts;  // host -> (rt, deadline misses)
-
-    bus.subscribe<shepherd_ground_truth_t>(
-        channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-          monitor::Truth t;
-          t.utime = m.utime;
-          t.escapes = m.escapes;
-          t.saves = m.saves;
-          t.sim_time_s = m.sim_time_s;
-          for (const auto& s : m.sheep)
-            t.sheep.push_back({s.id, s.x_mm, s.y_mm, s.u, s.v, s.visible != 0, s.on_field != 0});
-          std::lock_guard<std::mutex> lock(mutex);
-          mon.on_truth(t);
-        });
+    monitor::MonitorFeed feed(mon);
+    bus.subscribe<shepherd_ground_truth_t>(channels::kGroundTruth,
+                                           [&](const shepherd_ground_truth_t& m) {
+                                             std::lock_guard<std::mutex> lock(mutex);
+                                             feed.on_truth(m);
+                                           });
     bus.subscribe<shepherd_blobs_t>(channels::kBlobs, [&](const shepherd_blobs_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      mon.on_blobs(m.utime, m.header.utime, wall_us());
+      feed.on_blobs(m, wall_us());
     });
     bus.subscribe<shepherd_objects_t>(channels::kObjects, [&](const shepherd_objects_t& m) {
-      std::vector<monitor::TrackedObject> objs;
-      for (const auto& o : m.objects)
-        objs.push_back({o.id, o.state == shepherd_object_t::STATE_VISIBLE,
-                        o.state == shepherd_object_t::STATE_DEAD, o.x_mm, o.y_mm, o.u, o.v});
       std::lock_guard<std::mutex> lock(mutex);
-      mon.on_objects(m.utime, m.header.utime, objs, wall_us());
+      feed.on_objects(m, wall_us());
     });
     bus.subscribe<arm_goal_t>(channels::kArmGoal, [&](const arm_goal_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      mon.on_arm_goal(m.source_frame_utime, m.header.utime);
+      feed.on_arm_goal(m);
     });
-    std::set<std::pair<std::string, int64_t>>
-        seen_cmds;  // (sender, seq): retransmissions are not new commands
     bus.subscribe<arm_cmd_t>(channels::kArmCmd, [&](const arm_cmd_t& m) {
       std::lock_guard<std::mutex> lock(mutex);
-      if (!seen_cmds.insert({m.header.sender, m.seq}).second) return;
-      mon.on_arm_command(m.source_frame_utime, m.header.utime);
+      feed.on_arm_cmd(m);
     });
     bus.subscribe<sched_status_t>(channels::kSchedStatus, [&](const sched_status_t& m) {
-      int64_t misses = 0;
-      for (const auto& t : m.tasks) misses += t.deadline_misses;
       std::lock_guard<std::mutex> lock(mutex);
-      hosts[m.host] = {m.rt != 0, misses};
-      bool rt = true;
-      int64_t total = 0;
-      for (const auto& [_, h] : hosts) {
-        rt = rt && h.first;
-        total += h.second;
-      }
-      mon.on_sched_status(rt, total);
+      feed.on_sched_status(m);
     });
     bus.start();
 
@@ -111,7 +81,7 @@ int main(int argc, char** argv) {
     if (!summary_path.empty()) {
       std::ofstream out(summary_path);
       if (!out) throw std::runtime_error("cannot write summary to " + summary_path);
-      out << summary.to_json().dump(2) << "\n";
+      out << json_text(summary.to_json(), 2) << "\n";
       spdlog::info("summary written to {}", summary_path);
     }
   } catch (const std::exception& e) {

@@ -17,7 +17,8 @@ void push_time(std::deque<int64_t>& q, int64_t now_us) {
 }
 
 double rate_hz(const std::deque<int64_t>& q) {
-  if (q.size() < 2) return 0.0;
+  // Two messages in the same microsecond (a burst after a stall) give no span to divide by.
+  if (q.size() < 2 || q.back() <= q.front()) return 0.0;
   return static_cast<double>(q.size() - 1) / (static_cast<double>(q.back() - q.front()) * 1e-6);
 }
 
