@@ -10,7 +10,9 @@
 
 #include "common/display/json_format.h"
 #include "common/display/lcm_json.h"
+#include "common/display/sched_status_rows.h"
 #include "common/lcm/channels.h"
+#include "common/log/json_text.h"
 #include "common/runtime/channels.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
@@ -31,40 +33,7 @@ namespace {
 void set_json(httplib::Response& res, const nlohmann::json& j, int status = 200) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
-  res.set_content(j.dump(), "application/json");
-}
-
-HostSched host_sched(const sched_status_t& m) {
-  HostSched h;
-  h.host = m.host;
-  h.rt = m.rt != 0;
-  for (float x : m.cpu_utilisation) h.cpu_utilisation.push_back(static_cast<double>(x));
-  for (float x : m.cpu_bound) h.cpu_bound.push_back(static_cast<double>(x));
-  for (const auto& t : m.tasks) {
-    TaskRow r;
-    r.process = t.process;
-    r.task = t.task;
-    r.policy = t.policy;
-    r.cpu = t.cpu;
-    r.priority = t.priority;
-    r.periodic = t.periodic != 0;
-    r.rt_granted = t.rt_granted != 0;
-    r.alive = t.alive != 0;
-    r.period_us = t.period_us;
-    r.deadline_us = t.deadline_us;
-    r.jobs = t.jobs;
-    r.deadline_misses = t.deadline_misses;
-    r.exec_p50_us = static_cast<double>(t.exec_p50_us);
-    r.exec_p99_us = static_cast<double>(t.exec_p99_us);
-    r.exec_max_us = static_cast<double>(t.exec_max_us);
-    r.jitter_p50_us = static_cast<double>(t.jitter_p50_us);
-    r.jitter_p99_us = static_cast<double>(t.jitter_p99_us);
-    r.jitter_max_us = static_cast<double>(t.jitter_max_us);
-    r.utilisation = static_cast<double>(t.utilisation);
-    h.tasks.push_back(std::move(r));
-  }
-  h.events = m.events;
-  return h;
+  res.set_content(json_text(j), "application/json");  // any bytes from the bus: U+FFFD
 }
 
 }  // namespace
@@ -106,7 +75,7 @@ void DisplayServer::subscribe_sched() {
   channels_.push_back(channels::kSchedStatus);
   bus_.subscribe<sched_status_t>(channels::kSchedStatus, [this](const sched_status_t& m) {
     newest_.put(channels::kSchedStatus + std::string("/") + m.host, m);
-    auto h = host_sched(m);
+    auto h = host_sched_of(m);
     std::lock_guard<std::mutex> lock(mutex_);
     sched_.on_sched(std::move(h));
   });

@@ -3,6 +3,17 @@
 #include "common/display/json_format.h"
 
 namespace ephor::display {
+namespace {
+
+// Shares of a CPU, to 0.001; NaN and infinities (a corrupt status) as 0, which JSON can carry.
+std::vector<double> rounded3(const std::vector<double>& xs) {
+  std::vector<double> out;
+  out.reserve(xs.size());
+  for (const double x : xs) out.push_back(rounded(x, 3));
+  return out;
+}
+
+}  // namespace
 
 void SchedTable::on_sched(HostSched host) {
   const std::string name = host.host;
@@ -31,14 +42,14 @@ nlohmann::json SchedTable::to_json() const {
                        {"jitter_max_us", r1(t.jitter_max_us)},
                        {"jobs", t.jobs},
                        {"deadline_misses", t.deadline_misses},
-                       {"utilisation", t.utilisation},
+                       {"utilisation", rounded(t.utilisation, 3)},
                        {"rt", t.rt_granted},
                        {"alive", t.alive}});
     }
     hosts.push_back({{"host", name},
                      {"rt", h.rt},
-                     {"cpu_utilisation", h.cpu_utilisation},
-                     {"cpu_bound", h.cpu_bound},
+                     {"cpu_utilisation", rounded3(h.cpu_utilisation)},
+                     {"cpu_bound", rounded3(h.cpu_bound)},
                      {"tasks", tasks},
                      {"events", h.events}});
   }

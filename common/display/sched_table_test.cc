@@ -1,5 +1,7 @@
 #include "common/display/sched_table.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace ephor::display {
@@ -26,6 +28,25 @@ TEST(SchedTableTest, NewestStatusPerHostInNameOrder) {
   EXPECT_EQ(j[1]["tasks"][0]["task"], "scan");
   EXPECT_NEAR(j[1]["tasks"][0]["exec_p99_us"].get<double>(), 12.3, 1e-9);
   EXPECT_EQ(j[1]["tasks"][0]["deadline_misses"], 3);
+}
+
+// A corrupt status's shares (NaN, infinite) are drawn as 0: JSON has no NaN
+// (nlohmann would write null, which the page reads as 0 or breaks on).
+TEST(SchedTableTest, SharesThatAreNotFiniteAreZero) {
+  SchedTable t;
+  HostSched a;
+  a.host = "sensor";
+  a.cpu_utilisation = {NAN, 0.25};
+  a.cpu_bound = {INFINITY};
+  TaskRow row;
+  row.utilisation = NAN;
+  a.tasks.push_back(row);
+  t.on_sched(a);
+  const auto j = t.to_json();
+  EXPECT_EQ(j[0]["cpu_utilisation"][0], 0.0);
+  EXPECT_EQ(j[0]["cpu_utilisation"][1], 0.25);
+  EXPECT_EQ(j[0]["cpu_bound"][0], 0.0);
+  EXPECT_EQ(j[0]["tasks"][0]["utilisation"], 0.0);
 }
 
 TEST(SchedTableTest, NoStatusIsAnEmptyArray) {
