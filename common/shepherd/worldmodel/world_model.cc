@@ -16,6 +16,15 @@ namespace {
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_nonneg(double v) { return std::isfinite(v) && v >= 0.0; }
 
+// t1_us - t0_us in s, for capture utimes (us). In double: the int64_t
+// difference of two utimes far apart (a sender's garbage, e.g. a first frame
+// at -9.2e18 us and the next at 1.7e15 us) overflows (fuzz target
+// shepherd_world_model). Exact, as the integer difference was, for utimes
+// within 2^53 us (285 years) of 0.
+double seconds_between(int64_t t0_us, int64_t t1_us) {
+  return (static_cast<double>(t1_us) - static_cast<double>(t0_us)) * 1e-6;
+}
+
 }  // namespace
 
 WorldModel::WorldModel(calibration::FieldCalibration calibration, WorldModelConfig config)
@@ -120,10 +129,10 @@ WorldModel::FrameResult WorldModel::process(const BlobFrame& frame) {
     started_ = true;
     first_utime_us_ = frame.utime_us;
   }
-  const double dt_s = static_cast<double>(frame.utime_us - last_utime_us_) * 1e-6;
+  const double dt_s = seconds_between(last_utime_us_, frame.utime_us);
   const bool first_frame = counters_.frames == 0;
   last_utime_us_ = frame.utime_us;
-  now_s_ = static_cast<double>(frame.utime_us - first_utime_us_) * 1e-6;
+  now_s_ = seconds_between(first_utime_us_, frame.utime_us);
   ++counters_.frames;
 
   std::vector<Eigen::Vector2d> blobs;

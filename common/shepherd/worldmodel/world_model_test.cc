@@ -1,6 +1,7 @@
 #include "common/shepherd/worldmodel/world_model.h"
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <random>
 
@@ -539,6 +540,26 @@ TEST(WorldModelTest, InvalidBlobsAreCountedAndIgnored) {
   wm.process(frame);
   EXPECT_EQ(wm.counters().invalid_blobs, 2);
   EXPECT_EQ(live_count(wm), 1);
+}
+
+// Found by the fuzz target shepherd_world_model: a first frame at -9.2e18 us
+// and the next at 1.7e15 us overflowed the int64_t difference of their
+// utimes (undefined behaviour). Frames any distance apart are processed, and
+// what the model reports stays finite.
+TEST(WorldModelTest, FramesFarApartInTimeDoNotOverflow) {
+  auto wm = make_model();
+  const int64_t times_us[] = {INT64_MIN + 1, -5, 1'700'000'000'033'333, INT64_MAX};
+  for (int i = 0; i < 4; ++i) {
+    BlobFrame frame{.utime_us = times_us[i], .frame_index = i, .blobs = {}};
+    frame.blobs.push_back({{200.0 + i, 200.0}, kArea});
+    EXPECT_EQ(wm.process(frame), WorldModel::FrameResult::kProcessed);
+    for (const ObjectEstimate& o : wm.objects()) {
+      EXPECT_TRUE(o.position_px.allFinite() && o.position_mm.allFinite());
+      EXPECT_TRUE(o.velocity_px_s.allFinite() && o.velocity_mm_s.allFinite());
+      EXPECT_TRUE(std::isfinite(o.since_seen_s));
+    }
+  }
+  EXPECT_EQ(wm.last_utime_us(), INT64_MAX);
 }
 
 TEST(WorldModelTest, BadConfigIsRejected) {
