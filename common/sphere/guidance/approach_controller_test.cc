@@ -144,5 +144,34 @@ TEST(SphereGuidance, IgnoresRepeatsAndFollowsARestartedRanger) {
   EXPECT_NEAR(restarted->state.position_m.z(), 20.0, 1e-9);
 }
 
+// Found by the fuzz target sphere_guidance: a finite estimate no ranger
+// gives (the sphere 4.9e285 m away, as the first of a new track) made the
+// filter's covariance overflow and SPHERE_GUIDANCE carry infinities and
+// NaN, the track lost for good. Such estimates are refused like non-finite
+// ones; so are times beyond kMaxTimeS.
+TEST(SphereGuidance, RefusesEstimatesNoRangerGives) {
+  GuidanceConfig config;
+  config.min_updates = 1;
+  SphereGuidance g(config);
+  EXPECT_FALSE(g.on_estimate(estimate(0, 4.9131e285)).has_value());
+  EstimateInput late = estimate(1, 3.0);
+  late.t_s = 1e300;
+  EXPECT_FALSE(g.on_estimate(late).has_value());
+  late = estimate(1, 3.0);
+  late.window_end_s = -1e300;
+  EXPECT_FALSE(g.on_estimate(late).has_value());
+  EXPECT_EQ(g.bad_inputs(), 3);
+  for (int64_t k = 1; k < 6; ++k) {
+    const auto out = g.on_estimate(estimate(k, 3.0 - 0.01 * static_cast<double>(k)));
+    ASSERT_TRUE(out.has_value());
+    EXPECT_TRUE(out->state.position_m.allFinite() && out->state.position_sigma_m.allFinite() &&
+                out->state.velocity_sigma_m_s.allFinite() &&
+                out->command.chaser_velocity_m_s.allFinite())
+        << k;
+  }
+  // The edge: a sphere 1 km out is still tracked.
+  EXPECT_TRUE(SphereGuidance().on_estimate(estimate(0, 999.0)).has_value());
+}
+
 }  // namespace
 }  // namespace ephor::sphere

@@ -11,7 +11,10 @@ std::optional<GuidanceOutput> SphereGuidance::on_estimate(const EstimateInput& e
   const bool finite =
       std::isfinite(e.window_end_s) &&
       (!e.ok || (std::isfinite(e.t_s) && e.position_m.allFinite() && e.velocity_m_s.allFinite()));
-  if (!finite) {
+  const bool plausible =
+      std::abs(e.window_end_s) <= kMaxTimeS &&
+      (!e.ok || (std::abs(e.t_s) <= kMaxTimeS && e.position_m.norm() <= kMaxDistanceM));
+  if (!finite || !plausible) {
     ++bad_;
     return std::nullopt;
   }

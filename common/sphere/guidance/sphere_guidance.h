@@ -51,10 +51,16 @@ class SphereGuidance {
   explicit SphereGuidance(const GuidanceConfig& config = {});
 
   // Returns nullopt for an estimate that is not newer than the last one
-  // (a repeat or out of order: up to kRestartWindows back) or has non-finite
-  // numbers; counted. An estimate further back means the ranger started
-  // again: the track starts again from it.
+  // (a repeat or out of order: up to kRestartWindows back), has non-finite
+  // numbers or numbers no ranger gives (a centre beyond kMaxDistanceM, a
+  // scan-clock time beyond kMaxTimeS either side of 0: the filter's
+  // covariance, which grows with the distance squared and the time step
+  // cubed, would overflow and the track be lost for good); counted. An
+  // estimate further back means the ranger started again: the track starts
+  // again from it.
   static constexpr int64_t kRestartWindows = 4;
+  static constexpr double kMaxDistanceM = 1000.0;  // 50 times the approach's 20 m
+  static constexpr double kMaxTimeS = 1e9;         // 30 years of scanning
   std::optional<GuidanceOutput> on_estimate(const EstimateInput& e);
 
   const Eigen::Vector3d& chaser_velocity() const { return commanded_; }

@@ -27,7 +27,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <variant>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -55,6 +54,7 @@
 #include "ephor/stripe_points_t.hpp"
 #include "ephor/stripe_profile_t.hpp"
 #include "ephor/stripe_scan_t.hpp"
+#include "procs/stripe/planner/planner_messages.h"
 #include "procs/stripe/planner/raster_plan.h"
 #include "procs/stripe/planner/scan_sequencer.h"
 
@@ -69,30 +69,6 @@ using namespace ephor::stripe;
 constexpr double kPaperStripesPerS = 3.5;
 
 double now_s() { return static_cast<double>(mono_ns()) * 1e-9; }
-
-struct Image {
-  int64_t request_id, image_index;
-};
-struct Points {
-  int64_t image_index, scan_id;
-  int stripe_index, scan_stripes;
-  float cpu_us;
-};
-struct Profile {
-  int64_t scan_id;
-  float cpu_us;
-};
-struct Done {
-  int64_t goal_id;
-  int status;
-  std::string reason;
-};
-struct Cloud {
-  int64_t scan_id, points;
-  int stripes_missing;
-  std::string path, error;
-};
-using Event = std::variant<Image, Points, Profile, Done, Cloud>;
 
 }  // namespace
 
@@ -172,13 +148,13 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
-    std::deque<Event> events;
+    std::deque<PlanEvent> events;
     std::optional<arm::Joints> arm_q;
     bool arm_moving = false;
     std::atomic<bool> finished{false};
     int exit_code = 0;
 
-    auto push = [&](Event e) {
+    auto push = [&](PlanEvent e) {
       {
         std::lock_guard<std::mutex> lock(mutex);
         events.push_back(std::move(e));
@@ -186,28 +162,23 @@ int main(int argc, char** argv) {
       runtime.trigger("plan");
     };
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      arm::Joints q = joints_of(m.q);
-      if (!q.allFinite()) return;
+      const std::optional<arm::Joints> q = arm_joints_of(m);
+      if (!q) return;
       std::lock_guard<std::mutex> lock(mutex);
-      arm_q = q;
+      arm_q = *q;
       arm_moving = m.moving;
     });
-    bus.subscribe<motion_done_t>(ephor::channels::kMotionDone, [&](const motion_done_t& m) {
-      push(Done{m.goal_id, m.status, m.reason});
-    });
+    bus.subscribe<motion_done_t>(ephor::channels::kMotionDone,
+                                 [&](const motion_done_t& m) { push(event_of(m)); });
     bus.subscribe<stripe_image_t>(stripe::channels::kImage, [&](const stripe_image_t& m) {
-      if (m.requester != args.name) return;
-      push(Image{m.request_id, m.image_index});
+      if (auto e = event_of(m, args.name)) push(std::move(*e));
     });
-    bus.subscribe<stripe_points_t>(stripe::channels::kPoints, [&](const stripe_points_t& m) {
-      push(Points{m.image_index, m.scan_id, m.stripe_index, m.scan_stripes, m.cpu_us});
-    });
-    bus.subscribe<stripe_profile_t>(stripe::channels::kProfile, [&](const stripe_profile_t& m) {
-      push(Profile{m.scan_id, m.cpu_us});
-    });
-    bus.subscribe<stripe_cloud_t>(stripe::channels::kCloud, [&](const stripe_cloud_t& m) {
-      push(Cloud{m.scan_id, m.points, m.stripes_missing, m.path, m.error});
-    });
+    bus.subscribe<stripe_points_t>(stripe::channels::kPoints,
+                                   [&](const stripe_points_t& m) { push(event_of(m)); });
+    bus.subscribe<stripe_profile_t>(stripe::channels::kProfile,
+                                    [&](const stripe_profile_t& m) { push(event_of(m)); });
+    bus.subscribe<stripe_cloud_t>(stripe::channels::kCloud,
+                                  [&](const stripe_cloud_t& m) { push(event_of(m)); });
 
     // The scan in hand (task thread only).
     std::optional<ScanSequencer> seq;
@@ -219,47 +190,13 @@ int main(int argc, char** argv) {
     int last_goal_stripe = -1, last_retaken = 0, last_range_losses = 0;
     int scans_done = 0;
     double last_status_s = 0.0, pause_until_s = 0.0;
-    double extract_cpu_us = 0.0, range_cpu_us = 0.0;
-    int extract_n = 0, range_n = 0;
-    Cloud last_cloud{};
+    ScanCpu cpu;
+    CloudEvent last_cloud{};
     nlohmann::json summary;
 
     auto publish_scan = [&](double t) {
-      stripe_scan_t m{};
+      stripe_scan_t m = scan_message_of(*seq, spec, scan_id, t);
       m.utime = wall_us();
-      m.scan_id = scan_id;
-      switch (seq->state()) {
-        case ScanState::kWaiting:
-          m.state = stripe_scan_t::STATE_WAITING;
-          break;
-        case ScanState::kRunning:
-          m.state = stripe_scan_t::STATE_RUNNING;
-          break;
-        case ScanState::kCaptured:
-          m.state = stripe_scan_t::STATE_CAPTURED;
-          break;
-        case ScanState::kDone:
-          m.state = stripe_scan_t::STATE_DONE;
-          break;
-        case ScanState::kFailed:
-          m.state = stripe_scan_t::STATE_FAILED;
-          break;
-      }
-      m.reason = seq->reason();
-      m.region_mm[0] = spec.x0_mm;
-      m.region_mm[1] = spec.y0_mm;
-      m.region_mm[2] = spec.x1_mm;
-      m.region_mm[3] = spec.y1_mm;
-      m.step_mm = spec.step_mm;
-      m.height_mm = spec.height_mm;
-      m.stripes_along_y = spec.stripes_along_y;
-      m.stripes_planned = seq->planned();
-      m.stripes_captured = seq->captured();
-      m.stripes_skipped = seq->skipped();
-      m.elapsed_s = seq->elapsed_s(t);
-      m.stripes_per_s = seq->stripes_per_s();
-      m.motion_s = seq->motion_s();
-      m.cloud_points = seq->cloud_points();
       bus.publish(stripe::channels::kScan, m);
       last_status_s = t;
     };
@@ -281,53 +218,48 @@ int main(int argc, char** argv) {
           spdlog::warn("stripe {}: its goal sent again as goal {}", a.goal->stripe,
                        a.goal->goal_id);
         last_goal_stripe = a.goal->stripe;
-        arm_goal_t g{};
+        arm_goal_t g = goal_message_of(*a.goal, speed_mm_s);
         g.utime = wall_us();
-        g.goal_id = a.goal->goal_id;
-        g.kind = arm_goal_t::KIND_JOINTS;
-        set_joints(a.goal->q, g.joints_rad);
-        g.max_speed_mm_s = static_cast<float>(speed_mm_s);
-        g.target_object = -1;
         bus.publish(ephor::channels::kArmGoal, g);
       }
       if (a.capture) {
-        stripe_capture_t c{};
+        stripe_capture_t c = capture_message_of(*a.capture, scan_id);
         c.utime = wall_us();
-        c.request_id = a.capture->request_id;
-        c.scan_id = a.capture->stripe >= 0 ? scan_id : 0;
-        c.stripe_index = a.capture->stripe;
-        c.mode = stripe_capture_t::MODE_STRIPE;
         bus.publish(stripe::channels::kCapture, c);
       }
       if (a.changed) publish_scan(now_s());
     };
     auto finish_scan = [&](double t) {
       const double per_stripe_us =
-          extract_n > 0 && range_n > 0 ? extract_cpu_us / extract_n + range_cpu_us / range_n : 0.0;
-      summary = {{"system", "stripe"},
-                 {"scan_id", scan_id},
-                 {"state", to_string(seq->state())},
-                 {"reason", seq->reason()},
-                 {"robot_seed", robot_seed},
-                 {"calibration", calibration_path.empty() ? "drawing" : calibration_path},
-                 {"region_mm", {spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm}},
-                 {"step_mm", spec.step_mm},
-                 {"height_mm", spec.height_mm},
-                 {"stripes_planned", seq->planned()},
-                 {"stripes_captured", seq->captured()},
-                 {"stripes_skipped", seq->skipped()},
-                 {"stripes_retaken", seq->retaken()},
-                 {"range_losses", seq->range_losses()},
-                 {"stripes_missing_in_cloud", last_cloud.stripes_missing},
-                 {"cloud_points", seq->cloud_points()},
-                 {"cloud_path", last_cloud.path},
-                 {"elapsed_s", seq->elapsed_s(t)},
-                 {"motion_s", seq->motion_s()},
-                 {"stripes_per_s_scanned", seq->stripes_per_s()},
-                 {"paper_stripes_per_s", kPaperStripesPerS},
-                 {"processing_cpu_us_per_stripe", per_stripe_us},
-                 {"extract_cpu_us_per_stripe", extract_n > 0 ? extract_cpu_us / extract_n : 0.0},
-                 {"range_cpu_us_per_stripe", range_n > 0 ? range_cpu_us / range_n : 0.0}};
+          cpu.extract_n > 0 && cpu.range_n > 0
+              ? cpu.extract_cpu_us / cpu.extract_n + cpu.range_cpu_us / cpu.range_n
+              : 0.0;
+      summary = {
+          {"system", "stripe"},
+          {"scan_id", scan_id},
+          {"state", to_string(seq->state())},
+          {"reason", seq->reason()},
+          {"robot_seed", robot_seed},
+          {"calibration", calibration_path.empty() ? "drawing" : calibration_path},
+          {"region_mm", {spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm}},
+          {"step_mm", spec.step_mm},
+          {"height_mm", spec.height_mm},
+          {"stripes_planned", seq->planned()},
+          {"stripes_captured", seq->captured()},
+          {"stripes_skipped", seq->skipped()},
+          {"stripes_retaken", seq->retaken()},
+          {"range_losses", seq->range_losses()},
+          {"stripes_missing_in_cloud", last_cloud.stripes_missing},
+          {"cloud_points", seq->cloud_points()},
+          {"cloud_path", last_cloud.path},
+          {"elapsed_s", seq->elapsed_s(t)},
+          {"motion_s", seq->motion_s()},
+          {"stripes_per_s_scanned", seq->stripes_per_s()},
+          {"paper_stripes_per_s", kPaperStripesPerS},
+          {"processing_cpu_us_per_stripe", per_stripe_us},
+          {"extract_cpu_us_per_stripe",
+           cpu.extract_n > 0 ? cpu.extract_cpu_us / cpu.extract_n : 0.0},
+          {"range_cpu_us_per_stripe", cpu.range_n > 0 ? cpu.range_cpu_us / cpu.range_n : 0.0}};
       if (seq->state() == ScanState::kDone) {
         spdlog::info(
             "scan {} done: {} of {} stripes ({} skipped, {} taken again), {} points in {:.1f} s: "
@@ -359,9 +291,8 @@ int main(int argc, char** argv) {
       seq.emplace(plan.goals, next_goal, next_request);
       last_goal_stripe = -1;
       last_retaken = last_range_losses = 0;
-      extract_cpu_us = range_cpu_us = 0.0;
-      extract_n = range_n = 0;
-      last_cloud = Cloud{};
+      cpu = ScanCpu{};
+      last_cloud = CloudEvent{};
       spdlog::info(
           "scan {}: {} stripes {:g} mm apart over ({:g}, {:g}) - ({:g}, {:g}) mm, {:g} mm "
           "up; {}",
@@ -374,7 +305,7 @@ int main(int argc, char** argv) {
 
     auto job = [&] {
       const double t = now_s();
-      std::deque<Event> batch;
+      std::deque<PlanEvent> batch;
       std::optional<arm::Joints> q;
       bool moving = false;
       {
@@ -392,31 +323,12 @@ int main(int argc, char** argv) {
           return;
         }
       }
-      for (const Event& e : batch) {
-        if (const auto* i = std::get_if<Image>(&e)) {
-          act(seq->on_image(i->request_id, i->image_index, t));
-        } else if (const auto* p = std::get_if<Points>(&e)) {
-          if (p->scan_id == scan_id && p->scan_id != 0) {
-            range_cpu_us += static_cast<double>(p->cpu_us);
-            ++range_n;
-            act(seq->on_ranged(p->stripe_index, p->scan_stripes, t));
-          }
-          act(seq->on_points(p->image_index, t));
-        } else if (const auto* f = std::get_if<Profile>(&e)) {
-          if (f->scan_id == scan_id && f->scan_id != 0) {
-            extract_cpu_us += static_cast<double>(f->cpu_us);
-            ++extract_n;
-          }
-        } else if (const auto* d = std::get_if<Done>(&e)) {
-          if (d->status == motion_done_t::STATUS_REJECTED)
-            spdlog::warn("goal {} refused by the arm: {} (its stripe is skipped)", d->goal_id,
-                         d->reason);
-          act(seq->on_motion_done(d->goal_id, d->status, d->reason, t));
-        } else if (const auto* c = std::get_if<Cloud>(&e)) {
-          if (c->scan_id != scan_id) continue;
-          last_cloud = *c;
-          act(seq->on_cloud(c->points, t));
-        }
+      for (const PlanEvent& e : batch) {
+        if (const auto* d = std::get_if<DoneEvent>(&e);
+            d && d->status == motion_done_t::STATUS_REJECTED)
+          spdlog::warn("goal {} refused by the arm: {} (its stripe is skipped)", d->goal_id,
+                       d->reason);
+        apply_event(*seq, scan_id, e, t, cpu, &last_cloud, act);
       }
       if (moving) seq->on_arm_moving(t);
       act(seq->tick(t));

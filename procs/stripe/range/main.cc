@@ -19,11 +19,11 @@
 // without it, the nominal arm and the cage from the mechanical drawings.
 
 #include <atomic>
-#include <ctime>
 #include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -48,17 +48,12 @@
 #include "ephor/stripe_profile_t.hpp"
 #include "ephor/stripe_scan_t.hpp"
 #include "procs/stripe/range/cloud_accumulator.h"
+#include "procs/stripe/range/range_messages.h"
 
 namespace {
 
 using namespace ephor;
 using namespace ephor::stripe;
-
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
 
 double now_s() { return static_cast<double>(mono_ns()) * 1e-9; }
 
@@ -101,7 +96,7 @@ int main(int argc, char** argv) {
     std::mutex mutex;
     Inbox<stripe_profile_t> profiles_in(256);
     CloudAccumulator clouds(missing_timeout_s);
-    std::map<int64_t, stripe_cloud_t> done;  // finished scans' messages (repeated on request)
+    FinishedClouds done;  // finished scans' messages (repeated on request)
     std::atomic<int64_t> stripes{0}, points{0}, bad{0};
 
     bus.subscribe<stripe_profile_t>(channels::kProfile, [&](const stripe_profile_t& m) {
@@ -109,48 +104,30 @@ int main(int argc, char** argv) {
       runtime.trigger("range");
     });
     bus.subscribe<stripe_scan_t>(channels::kScan, [&](const stripe_scan_t& m) {
-      if (m.state != stripe_scan_t::STATE_CAPTURED) return;
       std::lock_guard<std::mutex> lock(mutex);
-      const auto it = done.find(m.scan_id);
-      if (it != done.end()) {  // the planner has not heard the cloud: say it again
-        bus.publish(channels::kCloud, it->second);
-        return;
-      }
-      clouds.captured(m.scan_id, m.stripes_captured, now_s());
+      // A finished scan: the planner has not heard the cloud, say it again.
+      if (stripe_cloud_t* again = on_scan(m, clouds, done, now_s()))
+        bus.publish(channels::kCloud, *again);
     });
 
     runtime.add_triggered("range", std::chrono::milliseconds(100), [&] {
       for (const stripe_profile_t& m : profiles_in.drain()) {
         std::string why;
-        const Stripe stripe = stripe_of(m, &why);
-        if (!why.empty()) {
+        std::optional<RangedStripe> ranged = range_profile(m, finder, &why);
+        if (!ranged) {
           const int64_t n = ++bad;
           if (n <= 10 || n % 100 == 0)
             spdlog::warn("STRIPE_PROFILE {} from {} refused: {} ({} so far)", m.image_index,
                          m.header.sender, why, n);
           continue;
         }
-        const double c0 = thread_cpu_us();
-        const std::vector<RangePoint> pts = finder.to_table(stripe, joints_of(m.q));
-        const double cpu = thread_cpu_us() - c0;
-        std::vector<Eigen::Vector3d> cloud;
-        cloud.reserve(pts.size());
-        for (const RangePoint& p : pts) cloud.push_back(p.table_mm);
-        stripe_points_t out;
-        out.utime = m.utime;
-        out.image_index = m.image_index;
-        out.scan_id = m.scan_id;
-        out.stripe_index = m.stripe_index;
-        out.cpu_us = static_cast<float>(cpu);
-        set_points(pts, out);
         {
           std::lock_guard<std::mutex> lock(mutex);
-          if (m.scan_id > 0 && !clouds.add(m.scan_id, m.stripe_index, std::move(cloud))) {
+          if (!add_to_cloud(*ranged, clouds) && m.scan_id > 0) {
             spdlog::debug("scan {} stripe {}: a repeat, not added", m.scan_id, m.stripe_index);
           }
-          out.scan_stripes = clouds.stripes(m.scan_id);
-          out.scan_points = clouds.points(m.scan_id);
         }
+        stripe_points_t& out = ranged->message;
         bus.publish(channels::kPoints, out);
         ++stripes;
         points += out.num_points;
@@ -164,24 +141,8 @@ int main(int argc, char** argv) {
         complete = clouds.take_complete(now_s());
       }
       for (const CompletedCloud& c : complete) {
-        stripe_cloud_t m{};
+        stripe_cloud_t m = cloud_message_of(c);
         m.utime = wall_us();
-        m.scan_id = c.scan_id;
-        m.stripes = c.stripes;
-        m.stripes_missing = c.stripes_missing;
-        m.points = static_cast<int64_t>(c.points.size());
-        Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
-        if (!c.points.empty()) {
-          lo = hi = c.points.front();
-          for (const auto& p : c.points) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-          }
-        }
-        for (int i = 0; i < 3; ++i) {
-          m.bbox_mm[i] = lo[i];
-          m.bbox_mm[3 + i] = hi[i];
-        }
         if (!out_path.empty()) {
           try {
             save_cloud_ply(out_path, c.points);
@@ -196,8 +157,7 @@ int main(int argc, char** argv) {
                      m.path.empty() ? "" : ", written to " + m.path);
         bus.publish(channels::kCloud, m);
         std::lock_guard<std::mutex> lock(mutex);
-        done[c.scan_id] = m;
-        while (done.size() > 8) done.erase(done.begin());
+        remember_cloud(done, m);
       }
     });
 
