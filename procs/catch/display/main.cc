@@ -3,7 +3,8 @@
 // the pose vision found), the ball, its window of interest, the predicted
 // path and exit point, the catch point and the cup on the arm (once the
 // survey placed the board in the work cell), and the catch count; the STOP
-// button for the arm. DisplayServer serves it; the state is CatchDisplayState's.
+// button for the arm. DisplayServer serves it; CatchDisplayFeed converts the messages
+// for CatchDisplayState and builds the state.
 //
 //   ephor-catch-display [--http-address 127.0.0.1] [--http-port 8081]
 //                       [--board deploy/catch/board.pbtxt] [--camera deploy/catch/camera.pbtxt]
@@ -27,7 +28,7 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
-#include "procs/catch/display/catch_display_state.h"
+#include "procs/catch/display/catch_display_feed.h"
 #include "procs/catch/display/catch_lcm_json.h"
 #include "procs/catch/display/catch_web_assets.h"
 
@@ -36,86 +37,21 @@ namespace {
 using namespace ephor;
 using namespace ephor::catch_display;
 
-template <size_t N, class T>
-std::array<double, N> arr(const T (&v)[N]) {
-  std::array<double, N> a{};
-  for (size_t i = 0; i < N; ++i) a[i] = static_cast<double>(v[i]);
-  return a;
-}
-
-void subscribe_all(display::DisplayServer& server, CatchDisplayState& state) {
-  server.set_frame_hook([&](const camera_frame_t& m, int64_t now_us) {
-    state.on_frame(m.frame_index, m.width, m.height, now_us);
-  });
-  server.subscribe<catch_board_pose_t>(catching::channels::kBoardPose,
-                                       [&](const catch_board_pose_t& m) {
-                                         BoardPoseView p;
-                                         p.valid = m.valid;
-                                         p.reason = m.reason;
-                                         p.r = arr(m.r);
-                                         p.t_mm = arr(m.t_mm);
-                                         p.circles_px = arr(m.circles_px);
-                                         p.reprojection_rms_px = m.reprojection_rms_px;
-                                         state.on_board_pose(p, wall_us());
-                                       });
-  server.subscribe<catch_survey_t>(catching::channels::kSurvey, [&](const catch_survey_t& m) {
-    SurveyView s;
-    for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < 2; ++k) s.board_mm[i][k] = m.board_mm[i][k];
-      for (int k = 0; k < 3; ++k) s.world_mm[i][k] = m.world_mm[i][k];
-    }
-    state.on_survey(s, wall_us());
-  });
-  server.subscribe<catch_ball_t>(catching::channels::kBall, [&](const catch_ball_t& m) {
-    BallView b;
-    b.frame_index = m.frame_index;
-    b.found = m.found;
-    b.u = m.u;
-    b.v = m.v;
-    b.u_blob = m.u_blob;
-    b.v_blob = m.v_blob;
-    b.area_px = m.area_px;
-    for (int i = 0; i < 4; ++i) b.window[static_cast<size_t>(i)] = m.window[i];
-    b.exec_ms = m.exec_ms;
-    state.on_ball(b, wall_us());
-  });
-  server.subscribe<catch_world_t>(catching::channels::kWorld, [&](const catch_world_t& m) {
-    WorldView w;
-    w.utime = m.utime;
-    w.frame_index = m.frame_index;
-    w.status = m.status;
-    w.ball_id = m.ball_id;
-    w.reason = m.reason;
-    w.position_b_mm = arr(m.position_b_mm);
-    w.velocity_b_mm_s = arr(m.velocity_b_mm_s);
-    w.has_prediction = m.has_prediction;
-    w.exit_x_b_mm = m.exit_x_b_mm;
-    w.exit_sigma_mm = m.exit_sigma_mm;
-    w.exit_utime = m.exit_utime;
-    w.exit_sigma_s = m.exit_sigma_s;
-    w.catch_point_w_mm = arr(m.catch_point_w_mm);
-    w.catch_utime = m.catch_utime;
-    w.latency_ms = m.latency_ms;
-    state.on_world(w, wall_us());
-  });
-  server.subscribe<catch_truth_t>(catching::channels::kTruth, [&](const catch_truth_t& m) {
-    TruthView t;
-    t.ball = m.ball;
-    t.phase = m.phase;
-    t.ball_px = arr(m.ball_px);
-    t.incline_deg = m.incline_deg;
-    t.balls_done = m.balls_done;
-    t.caught = m.caught;
-    t.oracle_reachable = m.oracle_reachable;
-    t.last_ball = m.last_ball;
-    t.last_caught = m.last_caught;
-    t.last_oracle_reachable = m.last_oracle_reachable;
-    t.last_reason = m.last_reason;
-    state.on_truth(t, wall_us());
-  });
-  server.subscribe<arm_state_t>(channels::kArmState, [&](const arm_state_t& m) {
-    state.on_arm({m.x_mm, m.y_mm, m.z_mm, m.moving != 0, m.speed_mm_s}, wall_us());
-  });
+void subscribe_all(display::DisplayServer& server, CatchDisplayFeed& feed) {
+  server.set_frame_hook([&](const camera_frame_t& m, int64_t now_us) { feed.on_frame(m, now_us); });
+  server.subscribe<catch_board_pose_t>(
+      catching::channels::kBoardPose,
+      [&](const catch_board_pose_t& m) { feed.on_board_pose(m, wall_us()); });
+  server.subscribe<catch_survey_t>(catching::channels::kSurvey,
+                                   [&](const catch_survey_t& m) { feed.on_survey(m, wall_us()); });
+  server.subscribe<catch_ball_t>(catching::channels::kBall,
+                                 [&](const catch_ball_t& m) { feed.on_ball(m, wall_us()); });
+  server.subscribe<catch_world_t>(catching::channels::kWorld,
+                                  [&](const catch_world_t& m) { feed.on_world(m, wall_us()); });
+  server.subscribe<catch_truth_t>(catching::channels::kTruth,
+                                  [&](const catch_truth_t& m) { feed.on_truth(m, wall_us()); });
+  server.subscribe<arm_state_t>(channels::kArmState,
+                                [&](const arm_state_t& m) { feed.on_arm_state(m, wall_us()); });
   // Heard for the debug dump and the rates only.
   server.subscribe<arm_goal_t>(channels::kArmGoal, nullptr);
 }
@@ -148,10 +84,10 @@ int main(int argc, char** argv) {
     const auto board = catching::load_board_file(resolve_repo_path(board_path));
     const auto camera = catching::load_camera_file(resolve_repo_path(camera_path));
     Bus bus(args.lcm_url, args.name);
-    CatchDisplayState state(board, camera);
+    CatchDisplayFeed feed(board, camera);
     display::DisplayServer server(bus, server_options, &find_web_asset);
-    subscribe_all(server, state);
-    server.set_state_builder([&](int64_t now_us) { return state.to_json(now_us); });
+    subscribe_all(server, feed);
+    server.set_state_builder([&](int64_t now_us) { return feed.state(now_us); });
     server.run("catch display");
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());

@@ -11,7 +11,7 @@
 //   subscribes  CAMERA (for /api/frame.jpg), RAMBO_FEATURES (or --features-channel),
 //               RAMBO_POSE, RAMBO_TRUTH, RAMBO_PLAN, RAMBO_INDICATOR, ARM_STATE,
 //               RAMBO_PREDICTION (debug dump only), EPHOR_SCHED_STATUS
-//   serves      / (the page), /api/state (RamboDisplayState::state), /api/model (the
+//   serves      / (the page), /api/state (RamboDisplayFeed::state), /api/model (the
 //               target's vertices, faces and diodes), /api/frame.jpg, /api/debug
 
 #include <iostream>
@@ -36,7 +36,7 @@
 #include "ephor/rambo_pose_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
 #include "ephor/rambo_truth_t.hpp"
-#include "procs/rambo/display/rambo_display_state.h"
+#include "procs/rambo/display/rambo_display_feed.h"
 #include "procs/rambo/display/rambo_web_assets.h"
 
 namespace ephor {
@@ -60,21 +60,6 @@ EPHOR_TO_JSON(rambo_prediction_t, utime, header, fitted, reason, model, ref_utim
               position_sigma_mm, rotation_sigma_rad, rms_rotation_residual_rad, poly_terms,
               poly_rotation, poly_t_mid_s, poly_t_scale_s, poly_r_mid_wxyz, poly_coeff)
 }  // namespace ephor
-
-namespace {
-
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
-
-bool finite(const Eigen::Isometry3d& p) { return p.matrix().allFinite(); }
-
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -104,92 +89,25 @@ int main(int argc, char** argv) {
   if (const auto exit_status = ephor::parse_flags(app, argc, argv)) return *exit_status;
   init_logging(args.name);
   try {
-    RamboDisplayState state(rambo::cell_from_flags(model_path, diodes));
+    RamboDisplayFeed feed(rambo::cell_from_flags(model_path, diodes));
     Bus bus(args.lcm_url, args.name);
     display::DisplayServer server(bus, options, &rambo_display::find_web_asset);
-    server.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
-      FeaturesView f;
-      f.utime = m.utime;
-      f.frame_index = m.frame_index;
-      f.source = m.source;
-      f.triples = m.num_triples;
-      if (static_cast<int>(m.corners_px.size()) != m.num_corners ||
-          static_cast<int>(m.edges.size()) != m.num_edges)
-        return;  // malformed: the pose process names it
-      for (const auto& c : m.corners_px)
-        if (std::isfinite(c[0]) && std::isfinite(c[1])) f.corners_px.push_back({c[0], c[1]});
-      for (const auto& e : m.edges)
-        if (e[0] >= 0 && e[1] >= 0 && e[0] < static_cast<int>(f.corners_px.size()) &&
-            e[1] < static_cast<int>(f.corners_px.size()))
-          f.edges.push_back({e[0], e[1]});
-      state.on_features(std::move(f));
-    });
-    server.subscribe<rambo_pose_t>(rambo::channels::kPose, [&](const rambo_pose_t& m) {
-      PoseView p;
-      p.utime = m.utime;
-      p.frame_index = m.frame_index;
-      p.found = m.found;
-      p.reason = m.reason;
-      p.target_in_base = pose_of(m.target_r, m.target_t_mm);
-      p.camera_in_base = pose_of(m.camera_r, m.camera_t_mm);
-      p.pose_ms = m.pose_ms;
-      p.correspondences = m.correspondences;
-      p.pruned = m.pruned;
-      p.features_source = m.features_source;
-      if (p.found && (!finite(p.target_in_base) || !finite(p.camera_in_base))) return;
-      if (static_cast<int>(m.matched_triangles_px.size()) == m.num_matched_triangles)
-        for (const auto& t : m.matched_triangles_px)
-          p.matched_triangles_px.push_back({t[0], t[1], t[2], t[3], t[4], t[5]});
-      state.on_pose(std::move(p));
-    });
-    server.subscribe<rambo_truth_t>(rambo::channels::kTruth, [&](const rambo_truth_t& m) {
-      TruthView t;
-      t.utime = m.utime;
-      t.frame_index = m.frame_index;
-      t.target_in_base = pose_of(m.target_r, m.target_t_mm);
-      t.camera_in_base = pose_of(m.camera_r, m.camera_t_mm);
-      for (const auto& p : m.carrier_mm) {
-        const Eigen::Vector3d v(p.at(0), p.at(1), p.at(2));
-        if (!v.allFinite()) return;
-        t.carrier_mm.push_back(v);
-      }
-      if (finite(t.target_in_base) && finite(t.camera_in_base)) state.on_truth(t);
-    });
-    server.subscribe<rambo_plan_t>(rambo::channels::kPlan, [&](const rambo_plan_t& m) {
-      PlanView p;
-      p.order = m.order;
-      p.current_task = m.current_task;
-      p.status = m.status;
-      p.greedy_trajectories = m.greedy_trajectories;
-      p.exhaustive_trajectories = m.exhaustive_trajectories;
-      p.dp_trajectories = m.dp_trajectories;
-      p.order_total_s = m.order_total_s;
-      p.goals_sent = m.goals_sent;
-      state.on_plan(std::move(p));
-    });
+    server.subscribe<rambo_features_t>(features_channel,
+                                       [&](const rambo_features_t& m) { feed.on_features(m); });
+    server.subscribe<rambo_pose_t>(rambo::channels::kPose,
+                                   [&](const rambo_pose_t& m) { feed.on_pose(m); });
+    server.subscribe<rambo_truth_t>(rambo::channels::kTruth,
+                                    [&](const rambo_truth_t& m) { feed.on_truth(m); });
+    server.subscribe<rambo_plan_t>(rambo::channels::kPlan,
+                                   [&](const rambo_plan_t& m) { feed.on_plan(m); });
     server.subscribe<rambo_indicator_t>(rambo::channels::kIndicator,
-                                        [&](const rambo_indicator_t& m) {
-                                          IndicatorView i;
-                                          i.utime = m.utime;
-                                          i.lit_diode = m.lit_diode;
-                                          i.lit_s = m.lit_s;
-                                          i.required_s = m.required_s;
-                                          i.acceptance_deg = m.acceptance_deg;
-                                          i.tagged.assign(m.tagged.begin(), m.tagged.end());
-                                          i.tagged_utime = m.tagged_utime;
-                                          i.beam_angle_deg = m.beam_angle_deg;
-                                          i.beam_offset_mm = m.beam_offset_mm;
-                                          state.on_indicator(std::move(i));
-                                        });
-    server.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      arm::Joints q;
-      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
-      state.on_arm_joints(q);
-    });
+                                        [&](const rambo_indicator_t& m) { feed.on_indicator(m); });
+    server.subscribe<arm_state_t>(ephor::channels::kArmState,
+                                  [&](const arm_state_t& m) { feed.on_arm_state(m); });
     // Heard for the debug dump and the rates only.
     server.subscribe<rambo_prediction_t>(rambo::channels::kPrediction, nullptr);
-    server.set_state_builder([&](int64_t) { return state.state(); });
-    server.add_json_route("/api/model", [&](int64_t) { return state.model(); });
+    server.set_state_builder([&](int64_t) { return feed.state(); });
+    server.add_json_route("/api/model", [&](int64_t) { return feed.model(); });
     server.run("rambo display");
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2.

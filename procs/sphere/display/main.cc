@@ -3,8 +3,8 @@
 // the locator's estimate, the guidance's filtered sphere with its 1-sigma
 // ellipse, the ground truth, and the approach (range and offset from the
 // boresight over time, phase, capture verdict). Only listens: no commands
-// (the system has no arm to stop). DisplayServer serves it; the state is
-// SphereDisplayState's.
+// (the system has no arm to stop). DisplayServer serves it; SphereDisplayFeed
+// converts the messages for SphereDisplayState and builds the state.
 //
 //   ephor-sphere-display [--http-address 127.0.0.1] [--http-port 8082] [--capture-m 1]
 //
@@ -25,7 +25,7 @@
 #include "common/runtime/process_args.h"
 #include "common/sphere/sphere_channels.h"
 #include "common/time/clock.h"
-#include "procs/sphere/display/sphere_display_state.h"
+#include "procs/sphere/display/sphere_display_feed.h"
 #include "procs/sphere/display/sphere_lcm_json.h"
 #include "procs/sphere/display/sphere_web_assets.h"
 
@@ -34,66 +34,18 @@ namespace {
 using namespace ephor;
 using namespace ephor::sphere_display;
 
-Vec3 vec(const double (&v)[3]) { return {v[0], v[1], v[2]}; }
-
-void subscribe_all(display::DisplayServer& server, SphereDisplayState& state) {
-  server.subscribe<sphere_scan_line_t>(sphere::channels::kScanLine,
-                                       [&](const sphere_scan_line_t& m) {
-                                         ScanLineView l;
-                                         l.line = m.line;
-                                         l.window = m.window;
-                                         l.last_in_window = m.last_in_window;
-                                         l.half_extent_deg = m.half_extent_deg;
-                                         l.azimuth_rad = m.azimuth_rad;
-                                         l.elevation_rad = m.elevation_rad;
-                                         l.range_m = m.range_m;
-                                         state.on_scan_line(l, wall_us());
-                                       });
+void subscribe_all(display::DisplayServer& server, SphereDisplayFeed& feed) {
+  server.subscribe<sphere_scan_line_t>(
+      sphere::channels::kScanLine,
+      [&](const sphere_scan_line_t& m) { feed.on_scan_line(m, wall_us()); });
   server.subscribe<sphere_estimate_t>(sphere::channels::kEstimate, [&](const sphere_estimate_t& m) {
-    EstimateView e;
-    e.window = m.window;
-    e.ok = m.ok;
-    e.reason = m.reason;
-    e.t_s = m.t_s;
-    e.position_m = vec(m.position_m);
-    e.velocity_m_s = vec(m.velocity_m_s);
-    e.points = m.points;
-    e.lines = m.lines;
-    e.lines_missing = m.lines_missing;
-    e.cpu_us = m.cpu_us;
-    e.algorithm = m.algorithm;
-    e.variant = m.variant;
-    state.on_estimate(e, wall_us());
+    feed.on_estimate(m, wall_us());
   });
   server.subscribe<sphere_guidance_t>(sphere::channels::kGuidance, [&](const sphere_guidance_t& m) {
-    GuidanceView g;
-    g.t_s = m.t_s;
-    g.position_m = vec(m.position_m);
-    g.velocity_m_s = vec(m.velocity_m_s);
-    g.position_sigma_m = vec(m.position_sigma_m);
-    g.velocity_sigma_m_s = vec(m.velocity_sigma_m_s);
-    g.chaser_velocity_m_s = vec(m.chaser_velocity_m_s);
-    g.range_to_capture_m = m.range_to_capture_m;
-    g.phase = m.phase;
-    g.estimates_used = m.estimates_used;
-    g.estimates_downweighted = m.estimates_downweighted;
-    g.estimates_rejected = m.estimates_rejected;
-    g.no_estimates = m.no_estimates;
-    state.on_guidance(g, wall_us());
+    feed.on_guidance(m, wall_us());
   });
-  server.subscribe<sphere_truth_t>(sphere::channels::kTruth, [&](const sphere_truth_t& m) {
-    TruthView t;
-    t.t_s = m.t_s;
-    t.approach = m.approach;
-    t.phase = m.phase;
-    t.position_m = vec(m.position_m);
-    t.velocity_m_s = vec(m.velocity_m_s);
-    t.capture_t_s = m.capture_t_s;
-    t.capture_speed_m_s = m.capture_speed_m_s;
-    t.capture_offset_m = m.capture_offset_m;
-    t.verdict = m.verdict;
-    state.on_truth(t, wall_us());
-  });
+  server.subscribe<sphere_truth_t>(sphere::channels::kTruth,
+                                   [&](const sphere_truth_t& m) { feed.on_truth(m, wall_us()); });
 }
 
 }  // namespace
@@ -122,11 +74,11 @@ int main(int argc, char** argv) {
 
   try {
     Bus bus(args.lcm_url, args.name);
-    SphereDisplayState state(options);
+    SphereDisplayFeed feed(options);
     display::DisplayServer server(bus, server_options, &find_web_asset);
-    subscribe_all(server, state);
-    server.set_state_builder([&](int64_t now_us) { return state.to_json(now_us); });
-    server.add_json_route("/api/scan", [&](int64_t) { return state.scan_json(); });
+    subscribe_all(server, feed);
+    server.set_state_builder([&](int64_t now_us) { return feed.state(now_us); });
+    server.add_json_route("/api/scan", [&](int64_t) { return feed.scan(); });
     server.run("sphere display");
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
