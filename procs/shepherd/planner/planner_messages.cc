@@ -92,7 +92,12 @@ arm_goal_t goal_message_of(const Goal& goal, const calibration::FieldCalibration
 }
 
 int64_t planner_goal_id(int64_t arm_goal_id, int64_t goal_id_offset) {
-  return arm_goal_id - goal_id_offset;
+  // A goal id far below the offset (a sender's garbage, e.g. INT64_MIN)
+  // overflowed the subtraction (fuzz target shepherd_planner): no goal of
+  // this planner has it.
+  int64_t id = 0;
+  if (__builtin_sub_overflow(arm_goal_id, goal_id_offset, &id)) return -1;
+  return id;
 }
 
 shepherd_planner_status_t status_message_of(const PlannerStatus& st, const std::string& kind,

@@ -47,7 +47,9 @@ arm_goal_t goal_message_of(const Goal& goal, const calibration::FieldCalibration
                            int64_t goal_id_offset, int64_t source_utime);
 
 // The planner's own id (Planner::on_motion_done) of the ARM_GOAL id a
-// MOTION_DONE names: goal_message_of()'s offset taken off again.
+// MOTION_DONE names: goal_message_of()'s offset taken off again; -1 (no
+// goal's: planners count their goals from 1) when that does not fit in
+// int64_t.
 int64_t planner_goal_id(int64_t arm_goal_id, int64_t goal_id_offset);
 
 // The planner's status as PLANNER_STATUS: the intercept in the image

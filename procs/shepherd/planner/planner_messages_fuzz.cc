@@ -31,7 +31,8 @@
 // answers MOTION_DONE, the lowered tool turning the sheep: move, lower,
 // raise, park legs), and a stream with an arm resting on another work
 // cell's plane, motion_dones for goals never sent, a stale frame and
-// objects with NaN, huge or unknown fields.
+// objects with NaN, huge or unknown fields; goal_id_overflow, a MOTION_DONE
+// naming goal INT64_MIN (it overflowed planner_goal_id()).
 #include <algorithm>
 #include <climits>
 #include <cmath>

@@ -18,7 +18,8 @@
 // (little-endian) and that many bytes. Seeds: fuzz_corpus/shepherd_world_model
 // (three sheep walking across the field for 60 frames, one of them hidden
 // for a while; a frame repeated and one out of order; blobs with NaN centres
-// and zero areas).
+// and zero areas; utimes_far_apart, frames at -9.2e18 us and 1.7e15 us,
+// which overflowed WorldModel's time differences).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
