@@ -153,7 +153,7 @@ nlohmann::json DisplayState::to_json(const Controls& controls, int64_t now_us) c
   if (arm_) {
     j["arm"] = {{"u", r1(arm_->u)},
                 {"v", r1(arm_->v)},
-                {"theta_rad", arm_->theta_rad},
+                {"theta_rad", rounded(arm_->theta_rad, 3)},
                 {"z_mm", r1(arm_->z_mm)},
                 {"moving", arm_->moving},
                 {"speed_mm_s", r1(arm_->speed_mm_s)},

@@ -1,5 +1,7 @@
 #include "procs/shepherd/display/display_state.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "common/geometry/overhead_camera.h"
@@ -61,6 +63,18 @@ TEST(DisplayStateTest, LatencyIgnoresResends) {
   const auto j = s.to_json(Controls{}, 0);
   EXPECT_EQ(j["latency"]["commands"], 2);
   EXPECT_NEAR(j["latency"]["max_ms"].get<double>(), 60.0, 1e-9);
+}
+
+// Found by the shepherd_display fuzz target: an ARM_STATE with a NaN angle
+// went into the page's state as null (JSON has no NaN), which the page's
+// drawing of the tool then read as 0 without saying so. Every number the page
+// draws is finite: a value that is not is shown as 0.
+TEST(DisplayStateTest, ArmAngleThatIsNotFiniteIsZero) {
+  auto s = make_state();
+  s.on_arm({100.0, 120.0, std::nan(""), 50.0, true, 80.0}, 1'000'000);
+  const auto j = s.to_json(Controls{}, 1'000'000);
+  ASSERT_TRUE(j["arm"]["theta_rad"].is_number());
+  EXPECT_EQ(j["arm"]["theta_rad"].get<double>(), 0.0);
 }
 
 TEST(DisplayStateTest, NothingHeardYetIsNull) {

@@ -29,6 +29,7 @@
 #include "common/time/clock.h"
 #include "procs/shepherd/display/command_validator.h"
 #include "procs/shepherd/display/display_state.h"
+#include "procs/shepherd/display/shepherd_display_feed.h"
 #include "procs/shepherd/display/shepherd_lcm_json.h"
 
 namespace {
@@ -44,91 +45,28 @@ std::filesystem::path repo_dir() {
   return exe.parent_path().parent_path().parent_path();
 }
 
-// The page's state and desired controls. DisplayServer holds its lock
-// around every handler, builder and command that touches them.
-struct Shepherd {
-  std::unique_ptr<display::DisplayState> state;
-  Controls controls;
-  bool vision_known = false;  // controls.vision came from a VISION_CMD or BLOBS
-  bool sim_known = false;
-  bool planner_known = false;
-  int frame_width = 512;  // px, of the newest camera frame (bounds the calibration box)
-  int frame_height = 482;
-};
-
-void subscribe_all(display::DisplayServer& server, Shepherd& sh) {
-  server.set_frame_hook([&](const camera_frame_t& m, int64_t now_us) {
-    sh.frame_width = m.width;
-    sh.frame_height = m.height;
-    sh.state->on_frame(m.frame_index, m.width, m.height, now_us);
-  });
-  server.subscribe<shepherd_blobs_t>(channels::kBlobs, [&](const shepherd_blobs_t& m) {
-    display::BlobsView b;
-    b.frame_index = m.frame_index;
-    b.mode = m.mode;
-    b.scan = m.scan;
-    b.threshold = m.threshold;
-    b.processing_us = static_cast<double>(m.processing_us);
-    for (const auto& x : m.blobs) b.blobs.push_back({x.u, x.v, x.area});
-    sh.state->on_blobs(std::move(b), wall_us());
-    if (!sh.vision_known) {  // nobody commanded vision yet: take over its current mode
-      sh.controls.vision.mode = m.mode;
-      sh.controls.vision.scan = m.scan;
-      sh.vision_known = true;
-    }
-  });
+// Every message the page hears goes to the feed, under DisplayServer's lock.
+void subscribe_all(display::DisplayServer& server, display::ShepherdDisplayFeed& feed) {
+  server.set_frame_hook([&](const camera_frame_t& m, int64_t now_us) { feed.on_frame(m, now_us); });
+  server.subscribe<shepherd_blobs_t>(
+      channels::kBlobs, [&](const shepherd_blobs_t& m) { feed.on_blobs(m, wall_us()); });
   server.subscribe<shepherd_vision_cmd_t>(
-      channels::kVisionCmd, [&](const shepherd_vision_cmd_t& m) {
-        sh.controls.vision = {m.paused != 0, m.mode, m.scan, m.threshold};
-        sh.vision_known = true;
-      });
-  server.subscribe<shepherd_objects_t>(channels::kObjects, [&](const shepherd_objects_t& m) {
-    std::vector<display::TrackedObject> objs;
-    objs.reserve(m.objects.size());
-    for (const auto& o : m.objects) {
-      objs.push_back({o.id, o.state, o.u, o.v, o.vu_px_s, o.vv_px_s, o.since_seen_s, o.area});
-    }
-    sh.state->on_objects(std::move(objs), wall_us());
-  });
+      channels::kVisionCmd, [&](const shepherd_vision_cmd_t& m) { feed.on_vision_cmd(m); });
+  server.subscribe<shepherd_objects_t>(
+      channels::kObjects, [&](const shepherd_objects_t& m) { feed.on_objects(m, wall_us()); });
   server.subscribe<shepherd_planner_status_t>(
-      channels::kPlannerStatus, [&](const shepherd_planner_status_t& m) {
-        sh.state->on_planner({m.planner, m.phase, m.target_object, m.intercept_u, m.intercept_v,
-                              m.intercept_time_s, m.planning_us, m.goal_id},
-                             wall_us());
-        if (!sh.planner_known && !m.planner.empty()) {
-          sh.controls.planner = m.planner;
-          sh.planner_known = true;
-        }
-      });
-  server.subscribe<shepherd_planner_cmd_t>(channels::kPlannerCmd,
-                                           [&](const shepherd_planner_cmd_t& m) {
-                                             sh.controls.planner = m.planner;
-                                             sh.planner_known = true;
-                                           });
-  server.subscribe<arm_state_t>(channels::kArmState, [&](const arm_state_t& m) {
-    sh.state->on_arm({m.u, m.v, m.theta_rad, m.z_mm, m.moving != 0, m.speed_mm_s}, wall_us());
-  });
+      channels::kPlannerStatus,
+      [&](const shepherd_planner_status_t& m) { feed.on_planner_status(m, wall_us()); });
+  server.subscribe<shepherd_planner_cmd_t>(
+      channels::kPlannerCmd, [&](const shepherd_planner_cmd_t& m) { feed.on_planner_cmd(m); });
+  server.subscribe<arm_state_t>(channels::kArmState,
+                                [&](const arm_state_t& m) { feed.on_arm_state(m, wall_us()); });
   server.subscribe<shepherd_ground_truth_t>(
-      channels::kGroundTruth, [&](const shepherd_ground_truth_t& m) {
-        display::TruthView t;
-        t.escapes = m.escapes;
-        t.saves = m.saves;
-        t.sim_time_s = m.sim_time_s;
-        for (const auto& s : m.sheep)
-          t.sheep.push_back({s.id, s.u, s.v, s.visible != 0, s.on_field != 0});
-        if (!sh.sim_known) {  // nobody commanded the simulator yet: its herd as it is
-          sh.controls.sim.sheep = m.num_sheep;
-          sh.sim_known = true;
-        }
-        sh.state->on_truth(std::move(t), wall_us());
-      });
-  server.subscribe<shepherd_sim_cmd_t>(channels::kSimCmd, [&](const shepherd_sim_cmd_t& m) {
-    sh.controls.sim = {m.sheep, m.seed};
-    sh.sim_known = true;
-  });
-  server.subscribe<arm_cmd_t>(channels::kArmCmd, [&](const arm_cmd_t& m) {
-    sh.state->on_arm_command(m.header.sender, m.seq, m.source_frame_utime, m.header.utime);
-  });
+      channels::kGroundTruth,
+      [&](const shepherd_ground_truth_t& m) { feed.on_truth(m, wall_us()); });
+  server.subscribe<shepherd_sim_cmd_t>(channels::kSimCmd,
+                                       [&](const shepherd_sim_cmd_t& m) { feed.on_sim_cmd(m); });
+  server.subscribe<arm_cmd_t>(channels::kArmCmd, [&](const arm_cmd_t& m) { feed.on_arm_cmd(m); });
   // Heard for the debug dump and the rates only.
   server.subscribe<arm_goal_t>(channels::kArmGoal, nullptr);
   server.subscribe<arm_ack_t>(channels::kArmAck, nullptr);
@@ -224,22 +162,19 @@ int main(int argc, char** argv) {
                                       workcell.field_width_mm);
 
     Bus bus(args.lcm_url, args.name);
-    Shepherd sh;
-    sh.controls.sim.seed = sim_seed;
-    sh.state = std::make_unique<display::DisplayState>(geometry, options);
+    display::ShepherdDisplayFeed feed(geometry, options, sim_seed);
     display::DisplayServer server(bus, server_options, &display::find_web_asset);
-    subscribe_all(server, sh);
-    server.set_state_builder(
-        [&](int64_t now_us) { return sh.state->to_json(sh.controls, now_us); });
+    subscribe_all(server, feed);
+    server.set_state_builder([&](int64_t now_us) { return feed.state(now_us); });
     server.set_command_handler(
         [&](const std::string& command, const std::map<std::string, std::string>& params) {
-          const display::CommandValidator validator(sh.frame_width, sh.frame_height);
-          const auto r = validator.validate(command, params, sh.controls);
+          const display::CommandValidator validator(feed.frame_width(), feed.frame_height());
+          const auto r = validator.validate(command, params, feed.controls());
           if (!r.ok) return display::CommandReply::refused(r.reason);
           if (!publish_control(bus, r.target, r.controls)) {
             return display::CommandReply::refused("could not publish the command on LCM", 500);
           }
-          sh.controls = r.controls;
+          feed.set_controls(r.controls);
           return display::CommandReply::sent();
         });
     spdlog::info("calibration {}", calibration_path);
