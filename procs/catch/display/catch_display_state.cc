@@ -10,8 +10,23 @@ namespace ephor::catch_display {
 namespace {
 
 using display::age_ms;
-using display::r1;
 using nlohmann::json;
+
+// display::rounded() and r1() for any finite x: theirs return infinity when
+// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a position
+// from a corrupt message), while such an x is a whole number already and is
+// kept as it is. (To go once common/display/json_format.h does this itself.)
+double rounded(double x, int digits) {
+  const double r = display::rounded(x, digits);
+  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
+}
+double r1(double x) { return rounded(x, 1); }
+
+// b - a in s, for times in us from the messages (any int64_t: their
+// difference as int64_t may overflow).
+double seconds_between(int64_t a_us, int64_t b_us) {
+  return (static_cast<double>(b_us) - static_cast<double>(a_us)) / 1e6;
+}
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -128,7 +143,7 @@ json CatchDisplayState::board_json(int64_t now_us) const {
   if (!pose_) return nullptr;
   json j = {{"valid", pose_->valid},
             {"reason", pose_->reason},
-            {"rms_px", display::rounded(pose_->reprojection_rms_px, 2)},
+            {"rms_px", rounded(pose_->reprojection_rms_px, 2)},
             {"surveyed", placement_.has_value()},
             {"survey_problem", survey_problem_},
             {"age_ms", r1(age_ms(pose_us_, now_us))}};
@@ -168,8 +183,8 @@ json CatchDisplayState::world_json(int64_t now_us) const {
   if (!w.has_prediction || !std::isfinite(w.exit_x_b_mm)) return j;
   j["exit_x_b_mm"] = r1(w.exit_x_b_mm);
   j["exit_sigma_mm"] = r1(w.exit_sigma_mm);
-  j["exit_sigma_s"] = display::rounded(w.exit_sigma_s, 3);
-  j["exit_in_s"] = display::rounded(static_cast<double>(w.exit_utime - now_us) / 1e6, 2);
+  j["exit_sigma_s"] = rounded(w.exit_sigma_s, 3);
+  j["exit_in_s"] = rounded(seconds_between(now_us, w.exit_utime), 2);
   j["exit_px"] = point(projector_.project_board({w.exit_x_b_mm, h, r}));
   const double sigma = std::isfinite(w.exit_sigma_mm) ? w.exit_sigma_mm : 0.0;
   const std::array<Eigen::Vector3d, 2> span{
@@ -180,7 +195,7 @@ json CatchDisplayState::world_json(int64_t now_us) const {
     // the a that reaches the bottom edge at its exit time.
     const double x = w.position_b_mm[0], y = w.position_b_mm[1];
     const double vx = w.velocity_b_mm_s[0], vy = w.velocity_b_mm_s[1];
-    const double tau = static_cast<double>(w.exit_utime - w.utime) / 1e6;
+    const double tau = seconds_between(w.utime, w.exit_utime);
     std::vector<Eigen::Vector3d> path;
     path.emplace_back(x, y, r);
     if (tau > 1e-3 && y < h) {
@@ -197,7 +212,7 @@ json CatchDisplayState::world_json(int64_t now_us) const {
   if (c.allFinite()) {
     j["catch_point_w_mm"] = {r1(c.x()), r1(c.y()), r1(c.z())};
     j["catch_px"] = point(projector_.project_world(c));
-    j["catch_in_s"] = display::rounded(static_cast<double>(w.catch_utime - now_us) / 1e6, 2);
+    j["catch_in_s"] = rounded(seconds_between(now_us, w.catch_utime), 2);
   }
   return j;
 }
@@ -242,7 +257,7 @@ json CatchDisplayState::to_json(int64_t now_us) const {
                  {"v_blob", r1(b.v_blob)},
                  {"area_px", b.area_px},
                  {"window", b.window},
-                 {"exec_ms", display::rounded(b.exec_ms, 2)},
+                 {"exec_ms", rounded(b.exec_ms, 2)},
                  {"age_ms", r1(age_ms(ball_us_, now_us))}};
   } else {
     j["ball"] = nullptr;

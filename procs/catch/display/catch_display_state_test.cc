@@ -1,8 +1,11 @@
 #include "procs/catch/display/catch_display_state.h"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
+
+#include "common/fuzz/json_checks.h"
 
 namespace ephor::catch_display {
 namespace {
@@ -156,6 +159,31 @@ TEST(CatchDisplayStateTest, CatchCountFromTheSimulatorAndBadNumbersDrawNothing) 
   EXPECT_FALSE(j["world"].contains("exit_px"));
   EXPECT_TRUE(j["board"]["outline"].empty());
   EXPECT_NO_THROW((void)j.dump());
+}
+
+// What the fuzz target catch_display found (issue 18): times from the
+// world model more than 2^63 us from the wall clock overflowed int64_t
+// (UBSan), and a position above ~1e307 mm was written as null (r1()
+// overflowed to infinity). The state's numbers are finite whatever a
+// message says.
+TEST(CatchDisplayStateTest, ExtremeTimesAndPositionsStayFiniteNumbers) {
+  CatchDisplayState s({}, camera());
+  s.on_board_pose(face_on(), 0);
+  WorldView w;
+  w.utime = std::numeric_limits<int64_t>::min();
+  w.position_b_mm = {1.7e308, -1.7e308};
+  w.velocity_b_mm_s = {1e308, 0.0};
+  w.has_prediction = true;
+  w.exit_x_b_mm = 300.0;
+  w.exit_utime = std::numeric_limits<int64_t>::max();
+  w.catch_utime = std::numeric_limits<int64_t>::min();
+  w.catch_point_w_mm = {1e308, 0.0, 0.0};
+  s.on_world(w, 1'700'000'000'000'000);
+  const auto j = s.to_json(-1'700'000'000'000'000);
+  EXPECT_EQ(fuzz::first_non_finite(j), "") << j.dump();
+  EXPECT_EQ(j["world"]["position_b_mm"][0].get<double>(), 1.7e308);
+  EXPECT_NEAR(j["world"]["exit_in_s"].get<double>(), 9.2e12, 0.1e12);
+  EXPECT_NEAR(j["world"]["catch_in_s"].get<double>(), -9.2e12, 0.1e12);
 }
 
 }  // namespace

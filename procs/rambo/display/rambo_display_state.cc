@@ -9,19 +9,34 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
+// display::rounded() for any finite x: it returns infinity when
+// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a translation
+// from a corrupt message), while such an x is a whole number already and is
+// kept as it is. (To go once common/display/json_format.h does this itself.)
+double rounded(double x, int digits) {
+  const double r = display::rounded(x, digits);
+  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
+}
+
+// A time in us carried as a double (rambo_indicator_t.tagged_utime) as an
+// integer for the JSON; null when it is not a time (NaN, beyond int64_t).
+nlohmann::json utime_json(double utime) {
+  if (!(std::fabs(utime) < 9.2e18)) return nullptr;
+  return static_cast<int64_t>(utime);
+}
+
 // Rounded for the page: mm to 0.1, rotations to 1e-5, px to 0.1.
 nlohmann::json pose_json(const Eigen::Isometry3d& p) {
   nlohmann::json r = nlohmann::json::array(), t = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r.push_back(display::rounded(p.linear()(i, j), 5));
-    t.push_back(display::rounded(p.translation()[i], 1));
+    for (int j = 0; j < 3; ++j) r.push_back(rounded(p.linear()(i, j), 5));
+    t.push_back(rounded(p.translation()[i], 1));
   }
   return {{"r", r}, {"t_mm", t}};
 }
 
 nlohmann::json vec_json(const Eigen::Vector3d& v, int digits) {
-  return {display::rounded(v.x(), digits), display::rounded(v.y(), digits),
-          display::rounded(v.z(), digits)};
+  return {rounded(v.x(), digits), rounded(v.y(), digits), rounded(v.z(), digits)};
 }
 
 }  // namespace
@@ -74,8 +89,7 @@ std::vector<std::array<double, 4>> RamboDisplayState::outline_px(
     const Eigen::Vector3d b = in_camera * v[static_cast<std::size_t>(cell_.model.edges()[e][1])];
     if (a.z() <= 1.0 || b.z() <= 1.0) continue;  // behind the camera
     const Eigen::Vector2d pa = cell_.camera.project(a), pb = cell_.camera.project(b);
-    out.push_back({display::rounded(pa.x(), 1), display::rounded(pa.y(), 1),
-                   display::rounded(pb.x(), 1), display::rounded(pb.y(), 1)});
+    out.push_back({rounded(pa.x(), 1), rounded(pa.y(), 1), rounded(pb.x(), 1), rounded(pb.y(), 1)});
   }
   return out;
 }
@@ -87,7 +101,7 @@ nlohmann::json RamboDisplayState::state() const {
   if (features_) {
     nlohmann::json corners = nlohmann::json::array(), edges = nlohmann::json::array();
     for (const auto& c : features_->corners_px)
-      corners.push_back({display::rounded(c[0], 1), display::rounded(c[1], 1)});
+      corners.push_back({rounded(c[0], 1), rounded(c[1], 1)});
     for (const auto& e : features_->edges) edges.push_back({e[0], e[1]});
     image["features"] = {{"frame_index", features_->frame_index},
                          {"source", features_->source},
@@ -101,7 +115,7 @@ nlohmann::json RamboDisplayState::state() const {
     nlohmann::json tri = nlohmann::json::array();
     for (const auto& t : pose_->matched_triangles_px) {
       nlohmann::json one = nlohmann::json::array();
-      for (double x : t) one.push_back(display::rounded(x, 1));
+      for (double x : t) one.push_back(rounded(x, 1));
       tri.push_back(one);
     }
     image["matched_triangles"] = tri;
@@ -125,7 +139,7 @@ nlohmann::json RamboDisplayState::state() const {
     pose["newest"] = {{"frame_index", pose_->frame_index},
                       {"found", pose_->found},
                       {"reason", pose_->reason},
-                      {"pose_ms", display::rounded(pose_->pose_ms, 3)},
+                      {"pose_ms", rounded(pose_->pose_ms, 3)},
                       {"correspondences", pose_->correspondences},
                       {"matched_triangles", pose_->matched_triangles_px.size()},
                       {"pruned", pose_->pruned},
@@ -136,8 +150,8 @@ nlohmann::json RamboDisplayState::state() const {
   if (found_) {
     nlohmann::json est = pose_json(found_->target_in_base);
     est["frame_index"] = found_->frame_index;
-    est["error_mm"] = error_ ? nlohmann::json(display::rounded(error_->first, 2)) : nullptr;
-    est["error_deg"] = error_ ? nlohmann::json(display::rounded(error_->second, 2)) : nullptr;
+    est["error_mm"] = error_ ? nlohmann::json(rounded(error_->first, 2)) : nullptr;
+    est["error_deg"] = error_ ? nlohmann::json(rounded(error_->second, 2)) : nullptr;
     pose["estimated"] = est;
   } else {
     pose["estimated"] = nullptr;
@@ -180,7 +194,7 @@ nlohmann::json RamboDisplayState::state() const {
                   {{"greedy", plan_->greedy_trajectories},
                    {"exhaustive", plan_->exhaustive_trajectories},
                    {"dynamic_programming", plan_->dp_trajectories}}},
-                 {"order_total_s", display::rounded(plan_->order_total_s, 2)},
+                 {"order_total_s", rounded(plan_->order_total_s, 2)},
                  {"goals_sent", plan_->goals_sent}};
   } else {
     j["plan"] = nullptr;
@@ -196,13 +210,13 @@ nlohmann::json RamboDisplayState::state() const {
     d["tagged"] = heard && indicator_->tagged[k];
     d["lit"] = indicator_ && indicator_->lit_diode == i;
     d["tagged_utime"] = heard && k < indicator_->tagged_utime.size() && indicator_->tagged[k]
-                            ? nlohmann::json(static_cast<int64_t>(indicator_->tagged_utime[k]))
+                            ? utime_json(indicator_->tagged_utime[k])
                             : nlohmann::json(nullptr);
     d["beam_angle_deg"] = heard && k < indicator_->beam_angle_deg.size()
-                              ? nlohmann::json(display::rounded(indicator_->beam_angle_deg[k], 1))
+                              ? nlohmann::json(rounded(indicator_->beam_angle_deg[k], 1))
                               : nlohmann::json(nullptr);
     d["beam_offset_mm"] = heard && k < indicator_->beam_offset_mm.size()
-                              ? nlohmann::json(display::rounded(indicator_->beam_offset_mm[k], 1))
+                              ? nlohmann::json(rounded(indicator_->beam_offset_mm[k], 1))
                               : nlohmann::json(nullptr);
     tagged += d["tagged"].get<bool>() ? 1 : 0;
     diodes.push_back(d);
@@ -212,9 +226,9 @@ nlohmann::json RamboDisplayState::state() const {
                     {"tagged", tagged},
                     {"of", cell_.diodes.size()},
                     {"lit_diode", indicator_ ? indicator_->lit_diode : -1},
-                    {"lit_s", indicator_ ? display::rounded(indicator_->lit_s, 2) : 0.0},
-                    {"required_s", indicator_ ? indicator_->required_s : 0.0},
-                    {"acceptance_deg", indicator_ ? indicator_->acceptance_deg : 0.0}};
+                    {"lit_s", indicator_ ? rounded(indicator_->lit_s, 2) : 0.0},
+                    {"required_s", indicator_ ? rounded(indicator_->required_s, 2) : 0.0},
+                    {"acceptance_deg", indicator_ ? rounded(indicator_->acceptance_deg, 2) : 0.0}};
   return j;
 }
 

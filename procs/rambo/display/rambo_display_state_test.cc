@@ -1,10 +1,12 @@
 #include "procs/rambo/display/rambo_display_state.h"
 
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include <gtest/gtest.h>
 
+#include "common/fuzz/json_checks.h"
 #include "common/rambo/image_triple.h"
 
 namespace ephor::rambo_display {
@@ -107,6 +109,33 @@ TEST(RamboDisplayState, StateCarriesImagePosesOrderAndTaggedDiodes) {
   EXPECT_EQ(m["vertices"].size(), cell.model.vertices().size());
   EXPECT_EQ(m["faces"].size(), cell.model.faces().size());
   EXPECT_EQ(m["diodes"].size(), 4u);
+}
+
+// What the fuzz target rambo_display found (issue 18): a rotation or
+// translation above ~1e303 was written as null (rounded() overflowed to
+// infinity), the indicator's required_s and acceptance_deg went out raw
+// (NaN as null), and a tagged time that is NaN or beyond int64_t was
+// converted to int64_t (undefined behaviour). Every number is finite; a
+// tagged time that is not one is null.
+TEST(RamboDisplayState, CorruptMessagesLeaveFiniteNumbers) {
+  RamboDisplayState s(rambo::RamboCell::make(4));
+  TruthView t;
+  t.target_in_base.translation() << 1.7e308, 0.0, 800.0;
+  t.camera_in_base.linear()(1, 1) = 1e306;
+  s.on_truth(t);
+  IndicatorView i;
+  i.tagged = {true, true, true, false};
+  i.tagged_utime = {std::nan(""), 1e30, 1.7e15, 0.0};
+  i.required_s = std::nan("");
+  i.acceptance_deg = std::numeric_limits<double>::infinity();
+  s.on_indicator(i);
+  const nlohmann::json j = s.state();
+  EXPECT_EQ(fuzz::first_non_finite(j), "") << j.dump();
+  EXPECT_EQ(j["pose"]["true"]["t_mm"][0].get<double>(), 1.7e308);
+  EXPECT_TRUE(j["diodes"][0]["tagged_utime"].is_null());
+  EXPECT_TRUE(j["diodes"][1]["tagged_utime"].is_null());
+  EXPECT_EQ(j["diodes"][2]["tagged_utime"].get<int64_t>(), 1'700'000'000'000'000);
+  EXPECT_EQ(j["indicator"]["required_s"].get<double>(), 0.0);
 }
 
 }  // namespace

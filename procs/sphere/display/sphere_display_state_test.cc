@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/fuzz/json_checks.h"
+
 namespace ephor::sphere_display {
 namespace {
 
@@ -163,6 +165,32 @@ TEST(SphereDisplayStateTest, ApproachHistoryVerdictsAndAFreshSphere) {
   EXPECT_EQ(j["last_verdict"]["approach"], 0);
   EXPECT_EQ(j["truth"]["approach"], 1);
   ASSERT_EQ(j["history"]["truth"].size(), 1u);  // the old approach's samples are gone
+}
+
+// What the fuzz target sphere_display found (issue 18): a pulse's angle or
+// range above ~1e300 was written as null in /api/scan (rounded() to 3 or 4
+// decimals overflowed to infinity). Such a number is kept as it is.
+TEST(SphereDisplayStateTest, HugeNumbersStayFiniteInScanAndState) {
+  SphereDisplayState s;
+  ScanLineView l;
+  l.window = 0;
+  l.last_in_window = true;
+  l.azimuth_rad = {0.0, 1e306};
+  l.elevation_rad = {1e306, 0.0};
+  l.range_m = {1e300, 10.0};
+  s.on_scan_line(l, 1);
+  TruthView t;
+  t.position_m = {1e305, 0.0, 1.0};
+  t.capture_offset_m = 1.7e308;
+  t.phase = 2;
+  s.on_truth(t, 2);
+  const auto scan = s.scan_json();
+  const auto state = s.to_json(3);
+  EXPECT_EQ(fuzz::first_non_finite(scan), "") << scan.dump();
+  EXPECT_EQ(fuzz::first_non_finite(state), "") << state.dump();
+  ASSERT_EQ(scan["points"].size(), 2u);
+  EXPECT_EQ(scan["points"][0][2].get<double>(), 1e300);
+  EXPECT_EQ(state["last_verdict"]["capture_offset_m"].get<double>(), 1.7e308);
 }
 
 }  // namespace

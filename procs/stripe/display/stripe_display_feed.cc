@@ -4,8 +4,20 @@
 #include <cmath>
 #include <cstddef>
 
+#include "common/display/json_format.h"
+
 namespace ephor::stripe_display {
 namespace {
+
+// display::rounded() for any finite x: it returns infinity when
+// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a number
+// from a corrupt message), while such an x is a whole number already and is
+// kept as it is. NaN and infinities become 0. (To go once
+// common/display/json_format.h does this itself.)
+double rounded(double x, int digits) {
+  const double r = display::rounded(x, digits);
+  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
+}
 
 const char* state_name(int s) {
   switch (s) {
@@ -62,14 +74,16 @@ nlohmann::json StripeDisplayFeed::state() const {
     j["scan"] = {{"scan_id", m.scan_id},
                  {"state", state_name(m.state)},
                  {"reason", m.reason},
-                 {"region_mm", m.region_mm},
-                 {"step_mm", m.step_mm},
-                 {"height_mm", m.height_mm},
+                 {"region_mm",
+                  {rounded(m.region_mm[0], 1), rounded(m.region_mm[1], 1),
+                   rounded(m.region_mm[2], 1), rounded(m.region_mm[3], 1)}},
+                 {"step_mm", rounded(m.step_mm, 2)},
+                 {"height_mm", rounded(m.height_mm, 1)},
                  {"stripes_planned", m.stripes_planned},
                  {"stripes_captured", m.stripes_captured},
                  {"stripes_skipped", m.stripes_skipped},
-                 {"elapsed_s", m.elapsed_s},
-                 {"stripes_per_s", m.stripes_per_s}};
+                 {"elapsed_s", rounded(m.elapsed_s, 2)},
+                 {"stripes_per_s", rounded(m.stripes_per_s, 2)}};
   } else {
     j["scan"] = nullptr;
   }
@@ -83,7 +97,7 @@ nlohmann::json StripeDisplayFeed::state() const {
 nlohmann::json StripeDisplayFeed::cloud() const {
   // Points to 0.1 mm: a third of the text, finer than the view shows.
   nlohmann::json xyz = nlohmann::json::array();
-  for (float v : xyz_) xyz.push_back(std::round(static_cast<double>(v) * 10.0) / 10.0);
+  for (float v : xyz_) xyz.push_back(rounded(v, 1));
   return nlohmann::json{{"scan_id", have_scan_ ? scan_.scan_id : 0},
                         {"points", xyz_.size() / 3},
                         {"xyz", std::move(xyz)}};

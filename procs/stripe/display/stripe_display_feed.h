@@ -31,7 +31,8 @@ class StripeDisplayFeed {
   void on_cloud(const stripe_cloud_t& m);
 
   // GET /api/state's system part: {scan: {scan_id, state, reason, ...} or
-  // null, cloud: {points, stripes, complete, path}}.
+  // null, cloud: {points, stripes, complete, path}}. Numbers rounded (mm to
+  // 0.1, s to 0.01); one that is not finite is written as 0.
   nlohmann::json state() const;
   // GET /api/cloud: {scan_id, points, xyz: [x, y, z, ...]} (mm to 0.1, table frame).
   nlohmann::json cloud() const;
