@@ -1,5 +1,6 @@
 #include "common/sphere/guidance/approach_controller.h"
 
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -171,6 +172,31 @@ TEST(SphereGuidance, RefusesEstimatesNoRangerGives) {
   }
   // The edge: a sphere 1 km out is still tracked.
   EXPECT_TRUE(SphereGuidance().on_estimate(estimate(0, 999.0)).has_value());
+}
+
+// Found by the fuzz target sphere_guidance: windows more than 2^63 apart
+// (a window 8.9e18 heard, then -8.3e18) overflowed the "how far back"
+// difference (undefined behaviour; wrapped, it called the far-back window a
+// repeat). It is a restart.
+TEST(SphereGuidance, WindowsFarApartAreARestart) {
+  // Window counts anywhere in int64_t, the times those of window 0.
+  auto at_window = [](int64_t window) {
+    EstimateInput e = estimate(0, 5.0);
+    e.window = window;
+    return e;
+  };
+  SphereGuidance g;
+  ASSERT_TRUE(g.on_estimate(at_window(8935141660703064064)).has_value());
+  ASSERT_TRUE(g.on_estimate(at_window(-8296474043565998078)).has_value());
+  EXPECT_EQ(g.restarts(), 1);
+  EXPECT_EQ(g.bad_inputs(), 0);
+  // And the newest window at the top of the range, one 2 back out of order.
+  SphereGuidance h;
+  ASSERT_TRUE(h.on_estimate(at_window(-9000000000000000000)).has_value());
+  ASSERT_TRUE(h.on_estimate(at_window(std::numeric_limits<int64_t>::max())).has_value());
+  EXPECT_FALSE(h.on_estimate(at_window(std::numeric_limits<int64_t>::max() - 2)).has_value());
+  EXPECT_EQ(h.bad_inputs(), 1);
+  EXPECT_EQ(h.restarts(), 0);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "common/sphere/guidance/sphere_guidance.h"
 
 #include <cmath>
+#include <cstdint>
 
 namespace ephor::sphere {
 
@@ -19,7 +20,10 @@ std::optional<GuidanceOutput> SphereGuidance::on_estimate(const EstimateInput& e
     return std::nullopt;
   }
   if (last_window_ && e.window <= *last_window_) {
-    if (*last_window_ - e.window <= kRestartWindows) {
+    // How far back, in uint64_t: the windows are any int64_t, and their
+    // difference (>= 0 here) may not fit one.
+    const uint64_t back = static_cast<uint64_t>(*last_window_) - static_cast<uint64_t>(e.window);
+    if (back <= static_cast<uint64_t>(kRestartWindows)) {
       ++bad_;  // a repeat or out of order
       return std::nullopt;
     }

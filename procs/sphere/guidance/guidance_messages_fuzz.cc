@@ -16,8 +16,10 @@
 // --min-updates 1), then up to 128 messages, each a flags byte (bit 0: the
 // guide task runs before the next message arrives; otherwise the next one
 // overwrites it), a 2-byte little-endian length and that many bytes.
-// Seeds: fuzz_corpus/sphere_guidance (a sphere closing from 20 m and from
-// 3 m, windows with no estimate, a repeat and a ranger's restart).
+// Seeds: fuzz_corpus/sphere_guidance (a sphere closing from 20 m, from 3 m
+// and near capture; windows with no estimate, a repeat, a message
+// overwritten and a ranger's restart) and the inputs of the faults it found
+// (crash-*: a sphere 4.9e285 m away, windows 2^63 apart).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
