@@ -56,15 +56,7 @@ void DisplayServer::subscribe_camera() {
   channels_.push_back(channel);
   bus_.subscribe<camera_frame_t>(channel, [this, channel](const camera_frame_t& m) {
     auto frame = std::make_shared<const camera_frame_t>(m);
-    // The dump shows a frame's fields, not its pixels: keep no second copy of them.
-    camera_frame_t fields;
-    fields.utime = m.utime;
-    fields.header = m.header;
-    fields.frame_index = m.frame_index;
-    fields.width = m.width;
-    fields.height = m.height;
-    fields.size = m.size;
-    newest_.put(channel, fields);
+    newest_.put(channel, frame_fields(m));
     std::lock_guard<std::mutex> lock(mutex_);
     frame_ = frame;
     if (frame_hook_) frame_hook_(m, wall_us());

@@ -69,14 +69,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       case 1: {
         camera_frame_t m;
         if (!msg.decode(m)) break;
-        camera_frame_t fields;  // as subscribe_camera: the fields, not the pixels
-        fields.utime = m.utime;
-        fields.header = m.header;
-        fields.frame_index = m.frame_index;
-        fields.width = m.width;
-        fields.height = m.height;
-        fields.size = m.size;
-        newest.put(channels::kCamera, fields);
+        newest.put(channels::kCamera, frame_fields(m));
         break;
       }
       case 2:

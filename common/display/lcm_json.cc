@@ -29,4 +29,15 @@ void to_json(nlohmann::json& j, const camera_frame_t& m) {
        {"data", "(" + std::to_string(m.size) + " bytes, not dumped)"}};
 }
 
+camera_frame_t frame_fields(const camera_frame_t& m) {
+  camera_frame_t fields;
+  fields.utime = m.utime;
+  fields.header = m.header;
+  fields.frame_index = m.frame_index;
+  fields.width = m.width;
+  fields.height = m.height;
+  fields.size = m.size;
+  return fields;
+}
+
 }  // namespace ephor

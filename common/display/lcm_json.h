@@ -37,4 +37,8 @@ void to_json(nlohmann::json& j, const estop_t& m);
 void to_json(nlohmann::json& j, const task_status_t& m);
 void to_json(nlohmann::json& j, const sched_status_t& m);
 
+// A camera frame's fields without its pixels: what the debug dump keeps of
+// the newest frame (no second copy of the image).
+camera_frame_t frame_fields(const camera_frame_t& m);
+
 }  // namespace ephor
