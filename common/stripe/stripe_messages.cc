@@ -112,20 +112,4 @@ void set_points(const std::vector<RangePoint>& points, stripe_points_t& m) {
   }
 }
 
-void set_pose(const Eigen::Isometry3d& pose, double r[9], double t[3]) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[3 * i + j] = pose.linear()(i, j);
-    t[i] = pose.translation()[i];
-  }
-}
-
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
-
 }  // namespace ephor::stripe

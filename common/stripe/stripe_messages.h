@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/arm/puma560.h"
+#include "common/geometry/message_pose.h"
 #include "common/stripe/range_finder.h"
 #include "common/stripe/stripe_extractor.h"
 #include "ephor/stripe_image_t.hpp"
@@ -40,7 +41,7 @@ std::vector<Eigen::Vector3d> points_of(const stripe_points_t& m, std::string* wh
 void set_points(const std::vector<RangePoint>& points, stripe_points_t& m);
 
 // Row-major 3x3 and translation of a pose, as the truth message carries them.
-void set_pose(const Eigen::Isometry3d& pose, double r[9], double t[3]);
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]);
+using geometry::pose_of;
+using geometry::set_pose;
 
 }  // namespace ephor::stripe

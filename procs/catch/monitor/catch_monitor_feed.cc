@@ -4,29 +4,18 @@
 
 #include <Eigen/Geometry>
 
+#include "common/geometry/message_pose.h"
 #include "common/runtime/counts.h"
 
 namespace ephor::catching {
-namespace {
-
-// A pose from a row-major rotation and a translation (mm), as the messages carry it.
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::optional<std::string> CatchMonitorFeed::on_truth(const catch_truth_t& m) {
   const bool rolling = m.phase == catch_truth_t::PHASE_ROLLING;
   const Eigen::Vector2d ball_b_mm(m.ball_b_mm[0], m.ball_b_mm[1]);
   summary_.on_truth(m.utime, rolling, ball_b_mm, m.last_ball, m.last_caught,
                     m.last_oracle_reachable, m.last_reason,
-                    pose_of(m.board_to_camera_r, m.board_to_camera_t_mm));
+                    geometry::pose_of(m.board_to_camera_r, m.board_to_camera_t_mm));
   summary_.on_ball_truth(m.utime, m.ball, rolling, ball_b_mm, m.exit_x_b_mm, m.exit_utime);
   if (m.last_ball < 0 || m.last_ball == last_logged_) return std::nullopt;
   last_logged_ = m.last_ball;
@@ -43,7 +32,7 @@ void CatchMonitorFeed::on_world(const catch_world_t& m) {
 }
 
 void CatchMonitorFeed::on_board_pose(const catch_board_pose_t& m) {
-  if (m.valid) summary_.on_board_pose(pose_of(m.r, m.t_mm));
+  if (m.valid) summary_.on_board_pose(geometry::pose_of(m.r, m.t_mm));
 }
 
 void CatchMonitorFeed::on_sched_status(const sched_status_t& m) {

@@ -5,18 +5,10 @@
 
 #include <Eigen/Geometry>
 
+#include "common/geometry/message_pose.h"
+
 namespace ephor::rambo_display {
 namespace {
-
-// A pose from a row-major rotation and a translation (mm), as the messages carry it.
-Eigen::Isometry3d pose_of(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
 
 bool finite(const Eigen::Isometry3d& p) { return p.matrix().allFinite(); }
 
@@ -46,8 +38,8 @@ void RamboDisplayFeed::on_pose(const rambo_pose_t& m) {
   p.frame_index = m.frame_index;
   p.found = m.found;
   p.reason = m.reason;
-  p.target_in_base = pose_of(m.target_r, m.target_t_mm);
-  p.camera_in_base = pose_of(m.camera_r, m.camera_t_mm);
+  p.target_in_base = geometry::pose_of(m.target_r, m.target_t_mm);
+  p.camera_in_base = geometry::pose_of(m.camera_r, m.camera_t_mm);
   p.pose_ms = m.pose_ms;
   p.correspondences = m.correspondences;
   p.pruned = m.pruned;
@@ -63,8 +55,8 @@ void RamboDisplayFeed::on_truth(const rambo_truth_t& m) {
   TruthView t;
   t.utime = m.utime;
   t.frame_index = m.frame_index;
-  t.target_in_base = pose_of(m.target_r, m.target_t_mm);
-  t.camera_in_base = pose_of(m.camera_r, m.camera_t_mm);
+  t.target_in_base = geometry::pose_of(m.target_r, m.target_t_mm);
+  t.camera_in_base = geometry::pose_of(m.camera_r, m.camera_t_mm);
   for (const auto& p : m.carrier_mm) {
     const Eigen::Vector3d v(p.at(0), p.at(1), p.at(2));
     if (!v.allFinite()) return;

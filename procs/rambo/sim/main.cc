@@ -46,6 +46,7 @@
 #include "common/arm/servo_messages.h"
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
+#include "common/geometry/message_pose.h"
 #include "common/geometry/workcell_file.h"
 #include "common/lcm/bus.h"
 #include "common/lcm/channels.h"
@@ -97,22 +98,6 @@ double percentile(std::vector<double> v, double p) {
 nlohmann::json p50_p99(const std::vector<double>& v) {
   if (v.empty()) return nullptr;
   return {{"p50", percentile(v, 0.5)}, {"p99", percentile(v, 0.99)}, {"n", v.size()}};
-}
-
-Eigen::Isometry3d from_message(const double r[9], const double t[3]) {
-  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) p.linear()(i, j) = r[3 * i + j];
-    p.translation()[i] = t[i];
-  }
-  return p;
-}
-
-void to_message(const Eigen::Isometry3d& p, double r[9], double t[3]) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) r[3 * i + j] = p.linear()(i, j);
-    t[i] = p.translation()[i];
-  }
 }
 
 struct PendingPrediction {
@@ -416,7 +401,7 @@ int main(int argc, char** argv) {
       ++w.poses;
       w.features_source = m.features_source;
       if (!m.found) return;
-      const Eigen::Isometry3d est = from_message(m.target_r, m.target_t_mm);
+      const Eigen::Isometry3d est = geometry::pose_of(m.target_r, m.target_t_mm);
       const auto it = w.truth_by_utime.find(m.utime);
       if (!est.matrix().allFinite() || it == w.truth_by_utime.end() || !std::isfinite(m.pose_ms)) {
         ++w.bad_messages;
@@ -436,7 +421,7 @@ int main(int argc, char** argv) {
       const auto truth = w.truth_by_utime.find(m.utime);
       const auto ours = w.ours_by_utime.find(m.utime);
       if (!m.found || truth == w.truth_by_utime.end() || ours == w.ours_by_utime.end()) return;
-      const Eigen::Isometry3d est = from_message(m.target_r, m.target_t_mm);
+      const Eigen::Isometry3d est = geometry::pose_of(m.target_r, m.target_t_mm);
       if (!est.matrix().allFinite() || !std::isfinite(m.pose_ms)) {
         ++w.bad_messages;
         return;
@@ -546,8 +531,8 @@ int main(int argc, char** argv) {
       frame.size = static_cast<int32_t>(frame.data.size());
       bus.publish(ephor::channels::kCamera, frame);
       truth.frame_index = frame.frame_index;
-      to_message(target, truth.target_r, truth.target_t_mm);
-      to_message(camera, truth.camera_r, truth.camera_t_mm);
+      geometry::set_pose(target, truth.target_r, truth.target_t_mm);
+      geometry::set_pose(camera, truth.camera_r, truth.camera_t_mm);
       for (const Eigen::Vector3d& p : carrier_chain)
         truth.carrier_mm.push_back({p.x(), p.y(), p.z()});
       truth.carrier_points = static_cast<int32_t>(truth.carrier_mm.size());
