@@ -151,6 +151,28 @@ TEST(RigidBodyPosePredictor, RecoversNoiseFreeTumble) {
   EXPECT_LT((p.body_rates_rad_s() - b.body_rates(s.back().t_s)).norm(), 1e-5);
 }
 
+// A span far beyond any horizon (a prediction stamped 1700 years ahead,
+// fuzz target rambo_planner) is cut to kMaxSteps steps: the state there, a
+// unit quaternion; a non-finite span leaves the state as it is.
+TEST(RigidBodyPosePredictor, PropagationOverAHugeSpanIsBounded) {
+  const Eigen::Vector3d m(1.0, 2.0, 3.0);
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d w(0.1, 0.2, 0.05);
+  RigidBodyPosePredictor::propagate(m, 0.005, -5.2635820644892672e10, &q, &w);
+  EXPECT_NEAR(q.norm(), 1.0, 1e-9);
+  EXPECT_TRUE(w.allFinite());
+  Eigen::Quaterniond q_cut = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d w_cut(0.1, 0.2, 0.05);
+  RigidBodyPosePredictor::propagate(m, 0.005, -0.005 * RigidBodyPosePredictor::kMaxSteps, &q_cut,
+                                    &w_cut);
+  EXPECT_LT((q.coeffs() - q_cut.coeffs()).norm(), 1e-12);
+  Eigen::Quaterniond q2 = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d w2(0.1, 0.2, 0.05);
+  RigidBodyPosePredictor::propagate(m, 0.005, std::nan(""), &q2, &w2);
+  EXPECT_EQ(q2.coeffs(), Eigen::Quaterniond::Identity().coeffs());
+  EXPECT_EQ(w2, Eigen::Vector3d(0.1, 0.2, 0.05));
+}
+
 // With noise (0.5 mm, 0.2 deg per axis at 30 Hz over 2 s), 2 s ahead: the
 // rigid-body model predicts a goal point 180 mm from the centre far better
 // than the paper's quadratic fits.

@@ -1,5 +1,6 @@
 #include "common/rambo/rigid_body_pose_predictor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -58,7 +59,12 @@ RigidBodyPosePredictor::RigidBodyPosePredictor(const Eigen::Vector3d& principal_
 
 void RigidBodyPosePredictor::propagate(const Eigen::Vector3d& m, double step_s, double dt_s,
                                        Eigen::Quaterniond* q, Eigen::Vector3d* w) {
-  if (dt_s == 0.0) return;
+  if (dt_s == 0.0 || !std::isfinite(dt_s)) return;
+  // A prediction stamped 1700 years ahead asked for 1e13 steps: the count
+  // overflowed int (undefined) and the planner planned from it (fuzz target
+  // rambo_planner). Longer spans than kMaxSteps steps are cut to them.
+  const double max_span_s = step_s * kMaxSteps;
+  dt_s = std::clamp(dt_s, -max_span_s, max_span_s);
   const int n = static_cast<int>(std::ceil(std::abs(dt_s) / step_s - 1e-9));
   const double h = dt_s / n;
   State s{Eigen::Vector4d(q->w(), q->x(), q->y(), q->z()), *w};

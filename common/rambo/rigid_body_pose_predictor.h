@@ -42,7 +42,11 @@ class RigidBodyPosePredictor : public PosePredictor {
   double rms_rotation_residual_rad() const { return rms_residual_rad_; }
 
   // Torque-free motion from (q, w) over dt_s (either sign) in steps of at
-  // most step_s: q maps body to base, w in the body frame, rad/s.
+  // most step_s: q maps body to base, w in the body frame, rad/s. A span
+  // longer than kMaxSteps steps is cut to that (500 s at 5 ms: far beyond
+  // any horizon the system predicts over; the time stays bounded); a
+  // non-finite dt_s leaves (q, w) as they are.
+  static constexpr int kMaxSteps = 100000;  // 500 s at 5 ms
   static void propagate(const Eigen::Vector3d& moments, double step_s, double dt_s,
                         Eigen::Quaterniond* q, Eigen::Vector3d* w);
 

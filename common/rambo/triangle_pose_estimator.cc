@@ -83,9 +83,9 @@ TrianglePoseEstimator::TrianglePoseEstimator(TargetModel model, CameraIntrinsics
   if (!camera_.valid()) throw std::invalid_argument("TrianglePoseEstimator: bad camera intrinsics");
   if (!(options_.cluster_radius_mm > 0) || !(options_.cluster_rotation_rad > 0) ||
       options_.min_cluster_size < 1 || !(options_.refine_gate_px > 0) ||
-      !(options_.final_gate_px > 0) || !(options_.prior_gate_px > 0))
+      !(options_.final_gate_px > 0) || !(options_.prior_gate_px > 0) || options_.max_triples < 1)
     throw std::invalid_argument(
-        "TrianglePoseEstimator: cluster radii, gates and min cluster must be > 0");
+        "TrianglePoseEstimator: cluster radii, gates, min cluster and max triples must be > 0");
 }
 
 int TrianglePoseEstimator::paraperspective_pose(
@@ -140,6 +140,12 @@ int TrianglePoseEstimator::paraperspective_pose(
 
 TrianglePoseResult TrianglePoseEstimator::estimate(const std::vector<ImageTriple>& triples,
                                                    const Eigen::Isometry3d* prior) const {
+  if (triples.size() > static_cast<std::size_t>(options_.max_triples)) {
+    TrianglePoseResult refused;
+    refused.reason = "more image triples than max_triples (" +
+                     std::to_string(options_.max_triples) + "): frame refused";
+    return refused;
+  }
   TrianglePoseResult pruned = estimate_once(triples, prior);
   if (!prior || (pruned.found && !pruned.ambiguous)) return pruned;
   // Pruning tries only matches near the prior, so a wrong prior (a wrong

@@ -70,6 +70,13 @@ struct TrianglePoseOptions {
   int min_correspondences_alone = 5;  // image points a pose needs without a prior's support
   double prior_agree_mm = 30.0;       // a weaker pose's centre this near the prior's
   double prior_agree_deg = 10.0;      // and its attitude this near
+  // A frame with more image triples than this is refused ("no pose", its
+  // reason naming the cap): the estimate's time grows with the triples
+  // (about 1.2 ms each, -O3, the built-in target; twice that with a prior
+  // not confirmed), so a frame with thousands (a bad or hostile features
+  // message: nothing else bounds it) would hold the pose task for seconds.
+  // The features process finds 10-30 on the target (at most 40 corners).
+  int max_triples = 64;
 };
 
 struct TrianglePoseResult {

@@ -305,6 +305,24 @@ TEST(TrianglePoseEstimator, NoCornersIsNoPoseWithAReason) {
   EXPECT_THROW(TrianglePoseEstimator(box(), c, TrianglePoseOptions{}), std::invalid_argument);
 }
 
+// A frame with more triples than the cap (a bad or hostile features
+// message) is refused at once, its reason naming the cap; one at the cap is
+// estimated (fuzz target rambo_pose: nothing bounded a frame's triples, and
+// the estimate takes about 1.2 ms a triple).
+TEST(TrianglePoseEstimator, TooManyTriplesAreRefused) {
+  TrianglePoseOptions o;
+  o.max_triples = 4;
+  TrianglePoseEstimator est(box(), CameraIntrinsics{}, o);
+  const ImageTriple t{{300, 200}, {340, 200}, {300, 240}, {}};
+  const TrianglePoseResult r = est.estimate(std::vector<ImageTriple>(5, t));
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.matches_tried, 0);
+  EXPECT_EQ(r.reason, "more image triples than max_triples (4): frame refused");
+  EXPECT_GT(est.estimate(std::vector<ImageTriple>(4, t)).matches_tried, 0);
+  o.max_triples = 0;
+  EXPECT_THROW(TrianglePoseEstimator(box(), CameraIntrinsics{}, o), std::invalid_argument);
+}
+
 // Seed 2's first frame from the images (recorded 2026-11-26 19:49 UTC,
 // tools/netns-run build/bin/ephor-launch deploy/rambo.pbtxt --headless
 // --seed 2 --record ...): 8 corners, one of them (250, 189) a stray 9 px

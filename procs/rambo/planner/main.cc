@@ -47,17 +47,7 @@
 #include "ephor/rambo_indicator_t.hpp"
 #include "ephor/rambo_plan_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
-
-namespace {
-// ARM_GOAL to the arm's servo through comm, about: a reaching trajectory
-// starts where the arm will be then, s.
-constexpr double kLatencyS = 0.03;
-// No re-plan this close before a reaching trajectory lands, s (see below).
-constexpr double kReplanBeforeLandS = 0.3;
-// The arm is on the trajectory sent when its state is this near it, rad
-// (ephor-arm refuses a trajectory starting more than 0.05 rad off).
-constexpr double kOnTrackRad = 0.02;
-}  // namespace
+#include "procs/rambo/planner/planner_task.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -112,250 +102,49 @@ int main(int argc, char** argv) {
 
   try {
     const RamboCell cell = cell_from_flags(model_path, diodes);
-    TaggingPlanner planner(cell, options);
+    PlannerTaskOptions task_options;
+    task_options.diodes = diodes;
+    task_options.tagging = options;
+    task_options.max_prediction_age_s = max_prediction_age_s;
+    task_options.max_rigid_prediction_age_s = max_rigid_prediction_age_s;
+    task_options.arrive_rad = arrive_rad;
+    task_options.resend_rad = resend_rad;
+    task_options.reach_trajectory = reach == "trajectory";
+    task_options.limit_fraction = limit_fraction;
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
-    std::optional<FittedMotion> motion;
-    int64_t motion_utime = 0;
-    std::optional<arm::Joints> q_now, qd_now;
-    // The reaching trajectory sent last: its diode and when it ends (wall
-    // clock, us); none is sent while it runs.
-    int trajectory_task = -2;
-    int64_t trajectory_end_utime = 0, trajectory_land_utime = 0, trajectory_motion_utime = 0;
-    int64_t state_utime = 0;  // of q_now, qd_now
-    std::atomic<int64_t> trajectories{0}, trajectory_failures{0};
-    std::vector<bool> tagged(static_cast<std::size_t>(diodes), false);
-    std::atomic<int64_t> goals{0}, bad{0};
-    const int64_t run_id = wall_us();
-    int last_task = -2, sent_task = -2;
-    std::optional<arm::Joints> sent_goal;
-    std::string last_status;
-    std::vector<int> logged_order{-1};
-    std::optional<TaggingTrajectory> sent_trajectory;  // the last reaching trajectory sent
-    std::atomic<int64_t> replans{0};                   // of them, re-planned from the one running
-    bool looking = false;  // sent back to the viewing pose since the prediction went stale
+    PlannerTask task(cell, task_options, wall_us());  // guarded by mutex
 
     bus.subscribe<rambo_prediction_t>(
         rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
-          if (!m.fitted) return;
           std::string why;
-          const std::optional<FittedMotion> f =
-              motion_from_message(m, static_cast<double>(m.ref_utime) * 1e-6, &why);
-          if (!f) {
-            ++bad;
-            spdlog::warn("RAMBO_PREDICTION from {} ignored: {}", m.header.sender, why);
-            return;
-          }
-          std::lock_guard<std::mutex> lock(mutex);
-          motion = *f;
-          motion_utime = m.ref_utime;
-        });
-    bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {
-      if (m.num_diodes != diodes || static_cast<int>(m.tagged.size()) != diodes) {
-        ++bad;
-        return;
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      for (int i = 0; i < diodes; ++i)
-        tagged[static_cast<std::size_t>(i)] = m.tagged[static_cast<std::size_t>(i)];
-    });
-    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      arm::Joints q;
-      arm::Joints qd;
-      for (int j = 0; j < 6; ++j) q[j] = m.q[j], qd[j] = m.qd[j];
-      if (!q.allFinite() || !qd.allFinite()) return;
-      std::lock_guard<std::mutex> lock(mutex);
-      q_now = q;
-      qd_now = qd;
-      state_utime = m.utime;
-    });
-
-    runtime.add_periodic(
-        "plan", std::chrono::microseconds(static_cast<int64_t>(period_ms * 1e3)), [&] {
-          rambo_plan_t plan{};
-          std::optional<arm::Joints> goal, look_goal;
-          int64_t source_utime = 0;
+          bool read = false;
           {
             std::lock_guard<std::mutex> lock(mutex);
-            const int64_t now = wall_us();
-            plan.utime = now;
-            plan.current_task = -1;
-            if (!motion || !q_now) {
-              plan.status = "waiting for a prediction and the arm";
-            } else if (static_cast<double>(now - motion_utime) * 1e-6 >
-                       (motion->polynomial ? max_prediction_age_s : max_rigid_prediction_age_s)) {
-              plan.status = "prediction too old";
-              // The camera is on the tool: after a reach that lost the
-              // target (a wrong pose, or the tumble turning it away) no
-              // frame shows it again while the arm waits where it is. Once
-              // per loss, back to the start pose, whose view holds the whole
-              // target (RamboCell), when no trajectory is running.
-              if (!looking && now >= trajectory_end_utime &&
-                  (*q_now - cell.start_joints).cwiseAbs().maxCoeff() > arrive_rad) {
-                looking = true;
-                look_goal = cell.start_joints;
-                plan.status = "prediction too old: back to the viewing pose";
-                trajectory_task = -2;
-              }
-            } else {
-              looking = false;
-              const TaggingStep s =
-                  planner.step(static_cast<double>(now) * 1e-6, *motion, tagged, *q_now);
-              plan.status = s.status;
-              plan.current_task = s.task;
-              plan.order = s.order;
-              plan.greedy_trajectories = s.greedy_trajectories;
-              plan.exhaustive_trajectories = s.exhaustive_trajectories;
-              plan.dp_trajectories = s.dp_trajectories;
-              plan.order_total_s = std::isfinite(s.order_total_s) ? s.order_total_s : -1.0;
-              goal = s.goal_q;
-              source_utime = motion_utime;
-              if (s.reordered && s.order != logged_order) {
-                logged_order = s.order;
-                std::string order;
-                for (int i : s.order) order += " " + cell.diodes[static_cast<std::size_t>(i)].name;
-                spdlog::info(
-                    "order:{}; reaching trajectories computed: greedy {}, exhaustive {}, "
-                    "DP {}",
-                    order, s.greedy_trajectories, s.exhaustive_trajectories, s.dp_trajectories);
-              }
-            }
-            if (plan.current_task != last_task || plan.status != last_status) {
-              spdlog::info("{}", plan.status);
-              last_task = plan.current_task;
-              last_status = plan.status;
-            }
+            read = task.on_prediction(m, &why);
           }
-          plan.num_tasks = static_cast<int32_t>(plan.order.size());
-          // Reaching trajectories: one per diode, a new one only when the
-          // last has ended (its hold over) and the diode is still open.
-          std::optional<TaggingTrajectory> reaching;
-          if (goal && reach == "trajectory") {
-            std::lock_guard<std::mutex> lock(mutex);
-            const int64_t now = wall_us();
-            // While the arm is on a trajectory to this diode (reaching or
-            // holding), each newer prediction re-plans it (section 8: "the
-            // reaching trajectory ... should be recomputed based on the new
-            // goal trajectory, and the present joint trajectory, which may
-            // itself be a reaching trajectory"): the new one leaves the
-            // trajectory being executed where the arm will be on it when the
-            // goal arrives, in position and velocity.
-            // Not in the last kReplanBeforeLandS before landing: the arm
-            // is then near the goal trajectory anyway, and fast, so the
-            // new start would be furthest from where the arm really is
-            // (the arm refuses a start more than 0.05 rad off); it
-            // re-plans again once on the goal point.
-            const bool on_it = plan.current_task == trajectory_task && sent_trajectory &&
-                               now < trajectory_end_utime;
-            const bool landing =
-                now < trajectory_land_utime &&
-                now > trajectory_land_utime - std::llround(kReplanBeforeLandS * 1e6);
-            if (on_it && (motion_utime == trajectory_motion_utime || landing)) {
-              goal.reset();  // the arm is on it
-            } else {
-              std::string why;
-              // Starts where the arm will be when it gets it: the state
-              // extrapolated to now + the relay's latency (or the running
-              // trajectory then).
-              const double t0_s = static_cast<double>(now) * 1e-6 + kLatencyS;
-              const double ahead_s = t0_s - static_cast<double>(state_utime) * 1e-6;
-              const arm::Joints q0 = *q_now + *qd_now * std::clamp(ahead_s, 0.0, 0.2);
-              // Only from the trajectory the arm is really on: a refused
-              // one (the arm checks the start within 0.05 rad) is not run,
-              // and re-planning from it would drift further from the arm at
-              // every step (seen: 138 of 167 refused, starts 0.05-0.33 rad
-              // off, the arm standing still meanwhile).
-              const bool from_running =
-                  on_it && (sent_trajectory->at(t0_s).q - q0).cwiseAbs().maxCoeff() < kOnTrackRad;
-              // Still reaching but off the sent trajectory (the arm started
-              // it late, or refused it): no re-plan, as before section 8's
-              // was done here; the arm's state extrapolated while it is fast
-              // would start too far from it.
-              const bool reaching_off_track = on_it && !from_running && now < trajectory_land_utime;
-              if (!reaching_off_track)
-                reaching = planner.reaching_trajectory(plan.current_task, t0_s, *motion, q0,
-                                                       *qd_now, &why, limit_fraction,
-                                                       from_running ? &*sent_trajectory : nullptr);
-              if (!reaching && on_it) {
-                // No better one from here: the arm stays on the one it has.
-                trajectory_motion_utime = motion_utime;
-                goal.reset();
-              }
-              if (reaching) {
-                if (from_running) ++replans;
-                sent_trajectory = reaching;
-                trajectory_task = plan.current_task;
-                trajectory_end_utime = std::llround(reaching->end_s() * 1e6);
-                trajectory_land_utime = std::llround(reaching->t_land_s * 1e6);
-                trajectory_motion_utime = motion_utime;
-                spdlog::info(
-                    "{}reaching trajectory to diode {}: lands in {:.2f} s{} ({} durations tried), "
-                    "then {:.1f} s on the goal point",
-                    on_it ? "re-planned " : "",
-                    cell.diodes[static_cast<std::size_t>(plan.current_task)].name,
-                    reaching->t_land_s - reaching->t0_s,
-                    reaching->via_intermediate_goal ? " via a safe intermediate goal" : "",
-                    reaching->durations_tried, reaching->hold_end_s - reaching->t_land_s);
-              } else if (goal) {
-                // The point-to-point goal below instead.
-                if (++trajectory_failures % 10 == 1)
-                  spdlog::warn("no reaching trajectory to diode {} ({}): a joint goal instead",
-                               plan.current_task, why);
-              }
-            }
-          }
-          // Each goal makes the arm plan anew from rest: while it is still
-          // on its way, a goal that has barely moved is not sent again (it
-          // would only slow the reach down); once the arm is there, the goal
-          // is refreshed every period so that the laser follows the diode.
-          if (goal && !reaching) {
-            std::lock_guard<std::mutex> lock(mutex);
-            const bool arrived =
-                sent_goal && q_now && (*q_now - *sent_goal).cwiseAbs().maxCoeff() < arrive_rad;
-            const bool moved =
-                !sent_goal || (*goal - *sent_goal).cwiseAbs().maxCoeff() > resend_rad;
-            if (plan.current_task != sent_task || arrived || moved) {
-              sent_goal = goal;
-              sent_task = plan.current_task;
-            } else {
-              goal.reset();
-            }
-          }
-          if (look_goal) {
-            goal = look_goal;
-            std::lock_guard<std::mutex> lock(mutex);
-            sent_goal = goal;
-            sent_task = -1;
-          }
-          if (goal) {
-            arm_goal_t g{};
-            g.utime = wall_us();
-            g.goal_id = run_id + goals;
-            g.kind = arm_goal_t::KIND_JOINTS;
-            for (int j = 0; j < 6; ++j) g.joints_rad[j] = (*goal)[j];
-            if (reaching) {
-              g.kind = arm_goal_t::KIND_TRAJECTORY;
-              for (std::size_t k = 0; k < reaching->samples.size(); ++k) {
-                const JointSample& js = reaching->samples[k];
-                g.traj_t_s.push_back(static_cast<float>(reaching->dt_s * static_cast<double>(k)));
-                g.traj_q_rad.emplace_back(js.q.data(), js.q.data() + 6);
-                g.traj_qd_rad_s.emplace_back(js.qd.data(), js.qd.data() + 6);
-              }
-              g.num_points = static_cast<int32_t>(g.traj_t_s.size());
-              const arm::Joints& last = reaching->samples.back().q;
-              for (int j = 0; j < 6; ++j) g.joints_rad[j] = last[j];
-              ++trajectories;
-            }
-            g.max_speed_mm_s = 0.0f;
-            g.source_frame_utime = source_utime;
-            g.target_object = plan.current_task;
-            bus.publish(ephor::channels::kArmGoal, g);
-            ++goals;
-          }
-          plan.goals_sent = goals;
-          bus.publish(rambo::channels::kPlan, plan);
+          if (!read) spdlog::warn("RAMBO_PREDICTION from {} ignored: {}", m.header.sender, why);
         });
+    bus.subscribe<rambo_indicator_t>(rambo::channels::kIndicator, [&](const rambo_indicator_t& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      task.on_indicator(m);
+    });
+    bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
+      std::lock_guard<std::mutex> lock(mutex);
+      task.on_arm_state(m);
+    });
+
+    runtime.add_periodic("plan", std::chrono::microseconds(static_cast<int64_t>(period_ms * 1e3)),
+                         [&] {
+                           PlannerTask::Period p;
+                           {
+                             std::lock_guard<std::mutex> lock(mutex);
+                             p = task.period(wall_us);
+                           }
+                           if (p.goal) bus.publish(ephor::channels::kArmGoal, *p.goal);
+                           bus.publish(rambo::channels::kPlan, p.plan);
+                         });
 
     runtime.start();
     spdlog::info("ready: {} diodes, goals every {} ms, lead {} s", diodes, period_ms,
@@ -365,7 +154,7 @@ int main(int argc, char** argv) {
     spdlog::info(
         "summary: {} goals sent ({} reaching trajectories, {} of them re-planned from the one "
         "running), {} bad messages",
-        goals.load(), trajectories.load(), replans.load(), bad.load());
+        task.goals(), task.trajectories(), task.replans(), task.bad());
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-planner: " << e.what() << "\n";

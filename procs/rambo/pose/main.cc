@@ -18,7 +18,6 @@
 #include <atomic>
 #include <cmath>
 #include <condition_variable>
-#include <deque>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -46,6 +45,7 @@
 #include "ephor/rambo_features_t.hpp"
 #include "ephor/rambo_pose_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
+#include "procs/rambo/pose/pose_task.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -87,27 +87,15 @@ int main(int argc, char** argv) {
     options.method = method == "exact" ? TrianglePoseMethod::kExactPerspective
                                        : TrianglePoseMethod::kParaperspective;
     const TrianglePoseEstimator estimator(cell.model, cell.camera, options);
-    const arm::Puma560 arm(cell.tool_length_mm);
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
-    std::deque<std::pair<int64_t, arm::Joints>> joints;  // ARM_STATE history, utime -> q
-    // Frames ready for pose, oldest first, and the newest one still waiting
-    // for an ARM_STATE at or after its capture time (guarded by mutex): the
-    // camera's pose is interpolated between the states around the capture,
-    // so a frame is taken up only once the arm has reported past it; what
-    // the estimate sees then does not depend on how fast messages arrived,
-    // and a recorded run replays to the same poses (rambo_replay_test).
-    struct ReadyFrame {
-      rambo_features_t features;
-      std::optional<arm::Joints> q;        // at the capture time (rad)
-      std::optional<FittedMotion> motion;  // the predictor's newest fit then
-    };
-    std::deque<ReadyFrame> ready;
-    std::optional<rambo_features_t> waiting;
-    int64_t dropped = 0;  // frames not estimated: more than --max-behind behind
-    std::optional<std::pair<int64_t, Eigen::Isometry3d>> last;  // newest found pose in base
-    std::optional<FittedMotion> motion;                         // the predictor's newest fit
+    // Frames ready for pose and the newest one still waiting for an
+    // ARM_STATE at or after its capture time (guarded by mutex; see
+    // PoseFrameQueue, pose_task.h).
+    PoseFrameQueue frames(max_behind);
+    // The pose task's own: the last pose found (the prior), the estimate.
+    FramePoser poser(cell, estimator, prior_max_age_s);
     std::atomic<int64_t> found{0}, not_found{0}, bad{0};
     std::map<std::string, int64_t> reasons;
     // The frame handed to the peer's thread (one at a time).
@@ -121,86 +109,29 @@ int main(int argc, char** argv) {
     std::condition_variable peer_wake;
     std::optional<PeerJob> peer_job;
     bool peer_stop = false;  // of frames without a pose (guarded by mutex)
-    bus.subscribe<rambo_prediction_t>(
-        rambo::channels::kPrediction, [&](const rambo_prediction_t& m) {
-          if (!m.fitted) return;
-          FittedMotion fm;
-          fm.t_ref_s = static_cast<double>(m.ref_utime) * 1e-6;
-          fm.position_mm = Eigen::Vector3d(m.position_mm[0], m.position_mm[1], m.position_mm[2]);
-          fm.velocity_mm_s =
-              Eigen::Vector3d(m.velocity_mm_s[0], m.velocity_mm_s[1], m.velocity_mm_s[2]);
-          fm.orientation = Eigen::Quaterniond(m.orientation_wxyz[0], m.orientation_wxyz[1],
-                                              m.orientation_wxyz[2], m.orientation_wxyz[3]);
-          fm.body_rates_rad_s =
-              Eigen::Vector3d(m.body_rates_rad_s[0], m.body_rates_rad_s[1], m.body_rates_rad_s[2]);
-          fm.principal_moments = Eigen::Vector3d(m.principal_moments[0], m.principal_moments[1],
-                                                 m.principal_moments[2]);
-          if (!fm.finite()) return;  // the planner names bad predictions
-          fm.orientation.normalize();
-          std::lock_guard<std::mutex> lock(mutex);
-          motion = fm;
-        });
-
-    // The joints at utime, linear between ARM_STATE samples (caller holds mutex).
-    auto joints_at = [&](int64_t utime) -> std::optional<arm::Joints> {
-      if (joints.empty() || utime < joints.front().first) return std::nullopt;
-      if (utime >= joints.back().first)
-        return utime - joints.back().first < 50'000 ? std::optional(joints.back().second)
-                                                    : std::nullopt;
-      for (std::size_t k = 1; k < joints.size(); ++k) {
-        if (joints[k].first < utime) continue;
-        const double a = static_cast<double>(utime - joints[k - 1].first) /
-                         static_cast<double>(joints[k].first - joints[k - 1].first);
-        return arm::Joints((1.0 - a) * joints[k - 1].second + a * joints[k].second);
-      }
-      return std::nullopt;
-    };
-
-    // A frame taken up with the camera's joints and the predictor's motion
-    // as they are when it becomes ready, in the order messages came (caller
-    // holds mutex): what its pose then depends on does not depend on how
-    // long the pose task took to get to it.
-    auto make_ready = [&](rambo_features_t f) {
-      ReadyFrame r;
-      r.q = joints_at(f.utime);
-      r.motion = motion;
-      r.features = std::move(f);
-      ready.push_back(std::move(r));
-    };
+    bus.subscribe<rambo_prediction_t>(rambo::channels::kPrediction,
+                                      [&](const rambo_prediction_t& m) {
+                                        const std::optional<FittedMotion> fm = prior_motion_of(m);
+                                        if (!fm) return;  // the planner names bad predictions
+                                        std::lock_guard<std::mutex> lock(mutex);
+                                        frames.on_motion(*fm);
+                                      });
     bus.subscribe<arm_state_t>(ephor::channels::kArmState, [&](const arm_state_t& m) {
-      arm::Joints q;
-      for (int j = 0; j < 6; ++j) q[j] = m.q[j];
-      if (!q.allFinite()) {
+      const std::optional<arm::Joints> q = joints_of(m);
+      if (!q) {
         ++bad;
         return;
       }
       {
         std::lock_guard<std::mutex> lock(mutex);
-        if (!joints.empty() && m.utime <= joints.back().first) return;
-        joints.emplace_back(m.utime, q);
-        while (joints.size() > 1000) joints.pop_front();  // 10 s at 100 Hz
-        if (!waiting || m.utime < waiting->utime) return;
-        make_ready(std::move(*waiting));
-        waiting.reset();
+        if (!frames.on_arm_state(m.utime, *q)) return;
       }
       runtime.trigger("pose");
     });
     bus.subscribe<rambo_features_t>(features_channel, [&](const rambo_features_t& m) {
       {
         std::lock_guard<std::mutex> lock(mutex);
-        // A newer frame: the one still waiting goes as it is (its camera
-        // pose from the last state, or none).
-        if (waiting) make_ready(std::move(*waiting));
-        waiting.reset();
-        if (!joints.empty() && joints.back().first >= m.utime)
-          make_ready(m);
-        else
-          waiting = m;
-        while (ready.size() > static_cast<std::size_t>(max_behind)) {
-          ready.pop_front();
-          ++dropped;
-        }
-        if (ready.empty()) return;
+        if (!frames.on_features(m)) return;
       }
       runtime.trigger("pose");
     });
@@ -209,94 +140,27 @@ int main(int argc, char** argv) {
       std::optional<ReadyFrame> rf;
       {
         std::lock_guard<std::mutex> lock(mutex);
-        if (ready.empty()) return;
-        rf = std::move(ready.front());
-        ready.pop_front();
-        if (!ready.empty()) runtime.trigger("pose");  // one frame per job
+        rf = frames.take();
+        if (!rf) return;
+        if (frames.has_ready()) runtime.trigger("pose");  // one frame per job
       }
       const rambo_features_t* f = &rf->features;
-      rambo_pose_t out{};
-      out.utime = f->utime;
-      out.frame_index = f->frame_index;
-      out.features_source = f->source;
-      out.camera_r[0] = out.camera_r[4] = out.camera_r[8] = 1.0;  // unknown until the joints are
-      std::vector<ImageTriple> triples;
-      bool finite = static_cast<int>(f->triples_px.size()) == f->num_triples;
-      for (const auto& t : f->triples_px) {
-        ImageTriple it;
-        it.reference_px = {t[0], t[1]};
-        it.a_px = {t[2], t[3]};
-        it.b_px = {t[4], t[5]};
-        finite =
-            finite && it.reference_px.allFinite() && it.a_px.allFinite() && it.b_px.allFinite();
-        triples.push_back(it);
-      }
-      const std::optional<arm::Joints>& q = rf->q;
-      const std::optional<FittedMotion>& motion_then = rf->motion;
-      std::optional<Eigen::Isometry3d> prior_in_base;
-      {
-        // `last` is this task's own (frames are taken in order).
-        std::lock_guard<std::mutex> lock(mutex);
-        const double t_frame = static_cast<double>(f->utime) * 1e-6;
-        if (motion_then && prior_max_age_s > 0 &&
-            t_frame - motion_then->t_ref_s <= 5.0 * prior_max_age_s &&
-            t_frame >= motion_then->t_ref_s)
-          prior_in_base = motion_then->pose(t_frame);
-        else if (last && prior_max_age_s > 0 &&
-                 static_cast<double>(f->utime - last->first) * 1e-6 <= prior_max_age_s)
-          prior_in_base = last->second;
-      }
-      if (!finite) {
+      bool malformed = false;
+      rambo_pose_t out =
+          poser.pose(*rf, &malformed,
+                     [&](const std::vector<ImageTriple>& triples, const Eigen::Isometry3d& camera) {
+                       if (peer_every > 0 && f->frame_index % peer_every == 0) {
+                         std::lock_guard<std::mutex> lock(peer_mutex);
+                         if (!peer_job) {  // else the peer is still on an older frame: skipped
+                           peer_job = PeerJob{f->utime, f->frame_index, f->source, triples, camera};
+                           peer_wake.notify_one();
+                         }
+                       }
+                     });
+      if (malformed) {
         ++bad;
-        out.reason = "features message malformed (sizes or non-finite pixels)";
         spdlog::warn("RAMBO_FEATURES frame {} from {} refused: {} ({} so far)", f->frame_index,
                      f->header.sender, out.reason, bad.load());
-      } else if (!q) {
-        out.reason = "no arm state at the frame's capture time (camera pose unknown)";
-      } else if (triples.empty()) {
-        out.reason = "no image triples in the frame";
-      } else {
-        const Eigen::Isometry3d camera = arm.forward(*q) * cell.camera_in_tool;
-        for (int i = 0; i < 3; ++i) {
-          for (int j = 0; j < 3; ++j) out.camera_r[3 * i + j] = camera.linear()(i, j);
-          out.camera_t_mm[i] = camera.translation()[i];
-        }
-        if (peer_every > 0 && f->frame_index % peer_every == 0) {
-          std::lock_guard<std::mutex> lock(peer_mutex);
-          if (!peer_job) {  // else the peer is still on an older frame: skipped
-            peer_job = PeerJob{f->utime, f->frame_index, f->source, triples, camera};
-            peer_wake.notify_one();
-          }
-        }
-        const Eigen::Isometry3d prior =
-            prior_in_base ? camera.inverse() * *prior_in_base : Eigen::Isometry3d::Identity();
-        const int64_t cpu0 = thread_cpu_ns();
-        const TrianglePoseResult r = estimator.estimate(triples, prior_in_base ? &prior : nullptr);
-        out.pose_ms = static_cast<double>(thread_cpu_ns() - cpu0) * 1e-6;
-        out.pruned = prior_in_base.has_value();
-        out.matches_tried = r.matches_tried;
-        out.cluster_size = r.cluster_size;
-        out.correspondences = r.correspondences;
-        out.rms_reprojection_px = r.rms_reprojection_px;
-        out.found = r.found;
-        out.reason = r.reason;
-        for (const MatchedTriangle& m : matched_triangles(cell.model, triples, r)) {
-          const ImageTriple& t = triples[static_cast<std::size_t>(m.triple)];
-          out.matched_triangles_px.push_back({t.reference_px.x(), t.reference_px.y(), t.a_px.x(),
-                                              t.a_px.y(), t.b_px.x(), t.b_px.y()});
-          out.matched_triangle_vertices.push_back(
-              {m.vertices.reference, m.vertices.a, m.vertices.b});
-        }
-        out.num_matched_triangles = static_cast<int32_t>(out.matched_triangles_px.size());
-        if (r.found) {
-          const Eigen::Isometry3d in_base = camera * r.target_in_camera;
-          for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 3; ++j) out.target_r[3 * i + j] = in_base.linear()(i, j);
-            out.target_t_mm[i] = in_base.translation()[i];
-          }
-          std::lock_guard<std::mutex> lock(mutex);
-          last = std::make_pair(f->utime, in_base);
-        }
       }
       (out.found ? found : not_found)++;
       if (!out.found) {
@@ -370,7 +234,7 @@ int main(int argc, char** argv) {
     std::string why;
     for (const auto& [reason, n] : reasons) why += fmt::format("; {}: {}", reason, n);
     spdlog::info("summary: {} poses, {} without, {} bad messages, {} frames dropped behind{}",
-                 found.load(), not_found.load(), bad.load(), dropped, why);
+                 found.load(), not_found.load(), bad.load(), frames.dropped(), why);
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-pose: " << e.what() << "\n";

@@ -20,11 +20,9 @@
 // Times inside are seconds since the first pose (a fit in absolute epoch
 // seconds would lose precision); messages carry absolute utimes.
 
-#include <atomic>
-#include <cmath>
-#include <deque>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -45,6 +43,7 @@
 #include "common/time/clock.h"
 #include "ephor/rambo_pose_t.hpp"
 #include "ephor/rambo_prediction_t.hpp"
+#include "procs/rambo/predictor/predictor_task.h"
 
 int main(int argc, char** argv) {
   using namespace ephor;
@@ -54,9 +53,8 @@ int main(int argc, char** argv) {
   ProcessArgs args;
   add_process_flags(app, args, "predictor");
   double window_s = 4.0, duration_s = 0.0, max_rms_px = 3.0;
-  int min_samples = 5, outliers_in_row = 0;
-  bool fit_valid = false;  // the predictor's fit is of the poses in the window
-  int refit_after = 10;    // outlier poses in a row (2 s at 5 Hz) that restart the fit
+  int min_samples = 5;
+  int refit_after = 10;  // outlier poses in a row (2 s at 5 Hz) that restart the fit
   double max_jump_mm = 40.0, max_jump_deg = 15.0;
   app.add_option("--window-s", window_s, "fit the poses of this last span, s (default 4)")
       ->check(CLI::Range(0.5, 120.0));
@@ -99,18 +97,23 @@ int main(int argc, char** argv) {
     const RamboCell cell = cell_from_flags(model_path, 0);
     const bool polynomial =
         motion_model == "polynomial" || (motion_model == "auto" && carrier == "rm501");
-    RigidBodyPosePredictor rigid(cell.principal_moments);
-    PolynomialPosePredictor poly(poly_degree, poly_rotation == "zyx"
-                                                  ? RotationCoordinates::kZyxAngles
-                                                  : RotationCoordinates::kRotationVector);
-    PosePredictor& predictor = polynomial ? static_cast<PosePredictor&>(poly) : rigid;
     if (polynomial) window_s = poly_window_s;
+    PoseFitterOptions fit_options;
+    fit_options.polynomial = polynomial;
+    fit_options.window_s = window_s;
+    fit_options.min_samples = min_samples;
+    fit_options.max_rms_px = max_rms_px;
+    fit_options.refit_after = refit_after;
+    fit_options.max_jump_mm = max_jump_mm;
+    fit_options.max_jump_deg = max_jump_deg;
+    fit_options.poly_degree = poly_degree;
+    fit_options.poly_rotation = poly_rotation == "zyx" ? RotationCoordinates::kZyxAngles
+                                                       : RotationCoordinates::kRotationVector;
+    fit_options.principal_moments = cell.principal_moments;
+    PoseFitter fitter(fit_options);  // the fit task's own
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     Mailbox<rambo_pose_t> poses;
-    std::deque<std::pair<int64_t, Eigen::Isometry3d>> window;
-    int64_t epoch_utime = -1;
-    std::atomic<int64_t> fits{0}, failures{0}, dropped{0};
 
     bus.subscribe<rambo_pose_t>(rambo::channels::kPose, [&](const rambo_pose_t& m) {
       poses.put(m);
@@ -119,100 +122,9 @@ int main(int argc, char** argv) {
 
     runtime.add_triggered("fit", std::chrono::milliseconds(100), [&] {
       const auto m = poses.take();
-      if (!m || !m->found) return;
-      Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) p.linear()(i, j) = m->target_r[3 * i + j];
-        p.translation()[i] = m->target_t_mm[i];
-      }
-      const bool orthonormal =
-          (p.linear().transpose() * p.linear() - Eigen::Matrix3d::Identity()).norm() < 1e-6;
-      if (!p.matrix().allFinite() || !orthonormal || !(m->rms_reprojection_px <= max_rms_px) ||
-          (!window.empty() && m->utime <= window.back().first)) {
-        ++dropped;
-        return;
-      }
-      if (epoch_utime < 0) epoch_utime = m->utime;
-      // A pose far from the fitted motion is a wrong cluster (a near-symmetric
-      // view): dropped, unless --refit-after in a row disagree (then the fit
-      // is the one that is wrong and starts again).
-      if (fit_valid && !window.empty()) {
-        const PosePrediction expected =
-            predictor.predict(static_cast<double>(m->utime - epoch_utime) * 1e-6);
-        const bool outlier = (expected.pose.translation() - p.translation()).norm() > max_jump_mm ||
-                             rotation_angle_between(expected.pose.linear(), p.linear()) >
-                                 max_jump_deg * M_PI / 180.0;
-        if (outlier && ++outliers_in_row < refit_after) {
-          ++dropped;
-          return;
-        }
-        if (outlier) {
-          spdlog::warn("{} poses in a row off the fitted motion: fitting afresh", refit_after);
-          window.clear();
-          fit_valid = false;
-        }
-        outliers_in_row = 0;
-      }
-      window.emplace_back(m->utime, p);
-      while (!window.empty() &&
-             static_cast<double>(m->utime - window.front().first) * 1e-6 > window_s)
-        window.pop_front();
-      rambo_prediction_t out{};
-      no_polynomial(&out);
-      out.utime = wall_us();
-      out.model = predictor.name();
-      out.ref_utime = m->utime;
-      out.samples = static_cast<int32_t>(window.size());
-      if (static_cast<int>(window.size()) < min_samples) {
-        out.reason = "waiting for " + std::to_string(min_samples) + " poses";
-        bus.publish(rambo::channels::kPrediction, out);
-        return;
-      }
-      std::vector<PoseSample> samples;
-      for (const auto& [u, pose] : window)
-        samples.push_back({static_cast<double>(u - epoch_utime) * 1e-6, pose});
-      std::string why;
-      if (!predictor.fit(samples, &why)) {
-        ++failures;
-        fit_valid = false;
-        out.reason = why;
-        bus.publish(rambo::channels::kPrediction, out);
-        return;
-      }
-      ++fits;
-      fit_valid = true;
-      const double t_ref = samples.back().t_s;
-      const PosePrediction now = predictor.predict(t_ref);
-      const Eigen::Vector3d v =
-          predictor.predict(t_ref + 1.0).pose.translation() - now.pose.translation();
-      const Eigen::Quaterniond q(now.pose.linear());
-      // The polynomial's body rates at t_ref (for the page and a reader that
-      // takes the rigid-body fields): R^T R' by a central difference of 10 ms.
-      Eigen::Vector3d w = Eigen::Vector3d::Zero();
-      if (polynomial) {
-        const Eigen::AngleAxisd d(predictor.predict(t_ref - 0.005).pose.linear().transpose() *
-                                  predictor.predict(t_ref + 0.005).pose.linear());
-        w = d.axis() * d.angle() / 0.01;
-        polynomial_to_message(poly.motion(), t_ref, &out);
-      } else {
-        w = rigid.body_rates_rad_s();
-        no_polynomial(&out);
-      }
-      out.fitted = true;
-      for (int k = 0; k < 3; ++k) {
-        out.position_mm[k] = now.pose.translation()[k];
-        out.velocity_mm_s[k] = v[k];
-        out.body_rates_rad_s[k] = w[k];
-        out.principal_moments[k] = cell.principal_moments[k];
-      }
-      out.orientation_wxyz[0] = q.w();
-      out.orientation_wxyz[1] = q.x();
-      out.orientation_wxyz[2] = q.y();
-      out.orientation_wxyz[3] = q.z();
-      out.position_sigma_mm = now.position_sigma_mm;
-      out.rotation_sigma_rad = now.rotation_sigma_rad;
-      out.rms_rotation_residual_rad = polynomial ? 0.0 : rigid.rms_rotation_residual_rad();
-      bus.publish(rambo::channels::kPrediction, out);
+      if (!m) return;
+      std::optional<rambo_prediction_t> out = fitter.on_pose(*m, wall_us());
+      if (out) bus.publish(rambo::channels::kPrediction, *out);
     });
 
     runtime.start();
@@ -224,8 +136,8 @@ int main(int argc, char** argv) {
       spdlog::info("ready: rigid-body fit over {} s, at least {} poses", window_s, min_samples);
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} fits, {} failed, {} poses dropped", fits.load(), failures.load(),
-                 dropped.load());
+    spdlog::info("summary: {} fits, {} failed, {} poses dropped", fitter.fits(), fitter.failures(),
+                 fitter.dropped());
   } catch (const ephor::ConfigError& e) {
     // A bad --model file or --diodes: one line, status 2 (issue 18).
     std::cerr << "ephor-rambo-predictor: " << e.what() << "\n";
