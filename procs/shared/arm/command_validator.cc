@@ -150,6 +150,9 @@ Validation CommandValidator::validate_trajectory(const ArmCommand& cmd,
   if (!current.allFinite()) return reject("the arm's current joints are unknown or not finite");
   const JointLimits& lim = arm_.limits();
   constexpr double kSlack = 1e-6;  // relative, for limits met exactly by the sender
+  // relative, for a mean velocity between points (the servo's own slack:
+  // float times on the wire round a segment's duration by ~1e-7 s)
+  constexpr double kSegmentSlack = 1e-3;
   for (std::size_t k = 0; k < pts.size(); ++k) {
     const TrajectoryPoint& p = pts[k];
     if (!std::isfinite(p.t_s) || !p.q.allFinite() || !p.qd.allFinite())
@@ -171,6 +174,16 @@ Validation CommandValidator::validate_trajectory(const ArmCommand& cmd,
             "{:.3f} rad/s",
             k, p.t_s, j + 1, p.qd[j], lim.qd_max[j]));
       if (k > 0) {
+        // The servo faults on a segment whose mean velocity is above the
+        // limit (common/arm/arm_servo.cc, 0.1 % slack): points at rest 0.3
+        // rad apart 0.1 s later pass every point check (fuzz target
+        // arm_process).
+        const double mean = (p.q[j] - pts[k - 1].q[j]) / (p.t_s - pts[k - 1].t_s);
+        if (std::abs(mean) > lim.qd_max[j] * (1.0 + kSegmentSlack))
+          return reject(fmt::format(
+              "trajectory points {}-{} (t {:.3f}-{:.3f} s): joint {} moves at {:.3f} rad/s on "
+              "average, above its limit {:.3f} rad/s",
+              k - 1, k, pts[k - 1].t_s, p.t_s, j + 1, mean, lim.qd_max[j]));
         const double qdd = (p.qd[j] - pts[k - 1].qd[j]) / (p.t_s - pts[k - 1].t_s);
         if (std::abs(qdd) > lim.qdd_max[j] * (1.0 + kSlack))
           return reject(fmt::format(

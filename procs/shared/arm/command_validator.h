@@ -16,9 +16,10 @@
 // checks all of it: at least two points, times from 0 and increasing, every
 // number finite, its first point at the current joints (within
 // trajectory_start_tolerance_rad), every point within the joint position
-// and velocity limits and collision-free, and the velocity change between
-// neighbouring points within the acceleration limits; a refusal names the
-// point, the joint and the value.
+// and velocity limits and collision-free, the mean velocity between
+// neighbouring points within the velocity limits (the servo's check) and the
+// velocity change between them within the acceleration limits; a refusal
+// names the point, the joint and the value.
 //
 // Image orientation theta (rad from +u towards +v) becomes an orientation in
 // F through the calibration's linear part (the paper's section 5: "a vector

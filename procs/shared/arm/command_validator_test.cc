@@ -233,6 +233,20 @@ TEST_F(TrajectoryGoalTest, LimitsBrokenAnywhereAreRefusedNamingPointJointAndValu
     c.trajectory.points[3].qd[4] = std::numeric_limits<double>::quiet_NaN();
     expect_rejected(c, "trajectory point 3 is not finite");
   }
+  {
+    // Found by the fuzz target arm_process: at rest at both points, every
+    // point within the limits, but 0.3 rad in 0.1 s between them (the servo
+    // faults on the mean velocity).
+    ArmCommand c;
+    c.kind = kKindTrajectory;
+    TrajectoryPoint p;
+    p.q = current_;
+    c.trajectory.points.push_back(p);
+    p.t_s = 0.1;
+    p.q[0] += 0.3;
+    c.trajectory.points.push_back(p);
+    expect_rejected(c, "trajectory points 0-1 (t 0.000-0.100 s): joint 1 moves at 3.000 rad/s");
+  }
   ArmCommand one = cubic(0.5, 2.0);
   one.trajectory.points.resize(1);
   expect_rejected(one, "trajectory has 1 point(s)");
