@@ -18,7 +18,8 @@ struct ControlledStopConfig {
   double min_duration_s = 0.05;        // also the hold time of an arm already at rest
 };
 
-// q in rad, qd in rad/s (the newest servo state). The end point is clamped
+// q in rad, qd in rad/s (the newest servo state; each clamped to the
+// joint's qd_max, the most the servo commands). The end point is clamped
 // into the joint limits.
 Trajectory controlled_stop(const Joints& q, const Joints& qd, const JointLimits& limits,
                            const ControlledStopConfig& config = {});

@@ -68,5 +68,27 @@ TEST(ControlledStopTest, StopNearAJointLimitEndsInsideTheLimits) {
   EXPECT_TRUE(limits.within(stop.points.front().q));
 }
 
+// Found by the fuzz target arm_process: the servo reported 1e300 rad/s (any
+// finite joint_state_t is taken) and the stop lasted 6e299 s, infinite as
+// joint_trajectory_t's float time.
+TEST(ControlledStopTest, AVelocityBeyondTheLimitIsStoppedAsTheLimit) {
+  const JointLimits limits = Puma560::default_limits();
+  Joints q;
+  q << 0.1, 0.3, -2.0, 0.2, -0.5, 0.0;
+  Joints qd = Joints::Zero();
+  qd(0) = 1e300;
+  qd(4) = -50.0;
+  const Trajectory stop = controlled_stop(q, qd, limits);
+  Joints at_limit = Joints::Zero();
+  at_limit(0) = limits.qd_max(0);
+  at_limit(4) = -limits.qd_max(4);
+  const Trajectory expected = controlled_stop(q, at_limit, limits);
+  ASSERT_EQ(stop.points.size(), 1u);
+  EXPECT_TRUE(std::isfinite(static_cast<float>(stop.points.front().t_s)));
+  EXPECT_DOUBLE_EQ(stop.points.front().t_s, expected.points.front().t_s);
+  EXPECT_TRUE(stop.points.front().q.isApprox(expected.points.front().q));
+  EXPECT_TRUE(limits.within(stop.points.front().q));
+}
+
 }  // namespace
 }  // namespace ephor::arm
