@@ -2,6 +2,8 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <limits>
+
 namespace ephor::arm {
 
 void ExecutionMonitor::start(int64_t cmd_seq, int64_t goal_id, int64_t trajectory_seq,
@@ -13,9 +15,15 @@ void ExecutionMonitor::start(int64_t cmd_seq, int64_t goal_id, int64_t trajector
   goal_q_ = goal_q;
   planned_duration_s_ = planned_duration_s;
   started_us_ = now_us;
-  deadline_us_ =
-      now_us + static_cast<int64_t>(
-                   (planned_duration_s * config_.timeout_factor + config_.timeout_slack_s) * 1e6);
+  // In double, saturated: a given trajectory may last up to 3.4e38 s (float
+  // times on the wire), whose timeout overflowed int64_t (fuzz target
+  // arm_process); such a deadline never comes.
+  const double timeout_us =
+      (planned_duration_s * config_.timeout_factor + config_.timeout_slack_s) * 1e6;
+  constexpr double kNever = 9.0e18;  // us, below INT64_MAX (9.22e18)
+  deadline_us_ = timeout_us < kNever - static_cast<double>(now_us)
+                     ? now_us + static_cast<int64_t>(timeout_us)
+                     : std::numeric_limits<int64_t>::max();
 }
 
 ArmAck ExecutionMonitor::finish(AckStatus status, std::string reason) {

@@ -1,5 +1,7 @@
 #include "procs/shared/arm/execution_monitor.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 namespace ephor::arm {
@@ -83,6 +85,22 @@ TEST(ExecutionMonitorTest, PreemptedMotionFailsWithTheNewSeq) {
   ASSERT_TRUE(ack);
   EXPECT_EQ(ack->seq, 4);
   EXPECT_EQ(ack->reason, "replaced by command seq 5");
+}
+
+// Found by the fuzz target arm_process: a given trajectory of 3e38 s (its
+// float times) overflowed the timeout's int64_t microseconds.
+TEST(ExecutionMonitorTest, AnEndlessMotionNeverTimesOut) {
+  ExecutionMonitor m;
+  const Joints goal = Joints::Constant(0.5);
+  m.start(7, 70, 3, goal, 3e38, kT0);
+  EXPECT_FALSE(m.on_tick(kT0 + 1'000'000'000'000));
+  EXPECT_FALSE(m.on_tick(std::numeric_limits<int64_t>::max() - 1));
+  EXPECT_TRUE(m.busy());
+  m.start(8, 80, 4, goal, 1.0, std::numeric_limits<int64_t>::max() - 1'000'000);
+  EXPECT_FALSE(m.on_tick(std::numeric_limits<int64_t>::max() - 1));
+  const auto ack = m.on_servo(servo_at(goal, 4, true), kT0);
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, AckStatus::kDone);
 }
 
 }  // namespace
