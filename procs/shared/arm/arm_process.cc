@@ -250,9 +250,10 @@ void ArmProcess::handle_command(const arm_cmd_t& m) {
       return;
     }
     if (const auto why = gate_.refuse_command()) return reject(m, *why);
+    if (m.utime <= 0) return reject(m, "command has no send time (utime <= 0)");
+    // Only now: a utime of INT64_MIN overflowed the age (fuzz target arm_process).
     const int64_t age_us = clock_.wall_us() - m.utime;
     const auto max_age_us = static_cast<int64_t>(options_.max_age_ms * 1000.0);
-    if (m.utime <= 0) return reject(m, "command has no send time (utime <= 0)");
     // Too old or from the future: refused whenever it was first sent (the
     // restart rule below never needs to vouch for it).
     if (age_us > max_age_us)
