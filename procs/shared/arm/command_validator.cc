@@ -59,6 +59,9 @@ std::string CommandValidator::speed_problem(double max_speed_mm_s) const {
   if (!std::isfinite(max_speed_mm_s))
     return fmt::format("speed {} mm/s is not finite", max_speed_mm_s);
   if (max_speed_mm_s < 0.0) return fmt::format("speed {} mm/s is negative", max_speed_mm_s);
+  if (max_speed_mm_s > 0.0 && max_speed_mm_s < config_.min_speed_mm_s)
+    return fmt::format("speed {} mm/s is below the arm's minimum of {} mm/s (0 asks for the cap)",
+                       max_speed_mm_s, config_.min_speed_mm_s);
   if (max_speed_mm_s > config_.max_speed_mm_s)
     return fmt::format("speed {} mm/s is above the arm's cap of {} mm/s", max_speed_mm_s,
                        config_.max_speed_mm_s);

@@ -5,11 +5,10 @@
 // planner); nothing about a refused command reaches the servo.
 //
 // Checks for an image target (kKindImage), in order: every number finite;
-// plane known; speed >= 0 and <= the cap; target inside the image; target
-// (via the calibration of its plane) inside the field; tool-down pose
-// reachable by the PUMA within its joint limits and clear of the table and
-// pedestal. A pose target (kKindPose) skips the image and calibration: its
-// tip must lie inside the work cell's area, between the table and
+// plane known; speed 0 (the cap) or within [min_speed_mm_s, the cap]; target inside the image;
+// target (via the calibration of its plane) inside the field; tool-down pose reachable by the PUMA
+// within its joint limits and clear of the table and pedestal. A pose target (kKindPose) skips the
+// image and calibration: its tip must lie inside the work cell's area, between the table and
 // max_tip_height_mm, and pass the same reach and collision checks. A joint
 // target (kKindJoints) must be within the joint limits and collision-free.
 // A joint trajectory (kKindTrajectory) is executed as given, so the arm
@@ -40,8 +39,12 @@ namespace ephor::arm {
 struct ValidatorConfig {
   int image_width_px = 512;
   int image_height_px = 482;
-  double max_speed_mm_s = 300.0;     // the cap; also the speed of a command that asks for 0
-  double max_tip_height_mm = 800.0;  // kKindPose: highest tool tip above the table, mm
+  double max_speed_mm_s = 300.0;  // the cap; also the speed of a command that asks for 0
+  // The slowest tool speed a command may ask for (0 asks for the cap), mm/s: a
+  // speed of 1e-40 mm/s planned a motion of 5e44 s whose times are infinite as
+  // floats (fuzz target arm_process).
+  double min_speed_mm_s = 10.0;
+  double max_tip_height_mm = 800.0;              // kKindPose: highest tool tip above the table, mm
   double trajectory_start_tolerance_rad = 0.05;  // kKindTrajectory: first point vs current
 };
 

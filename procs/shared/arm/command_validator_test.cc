@@ -90,6 +90,13 @@ TEST_F(CommandValidatorTest, RejectsUnknownPlaneAndBadSpeed) {
   c = command_at(1000.0, 200.0);
   c.max_speed_mm_s = 301.0;
   expect_rejected(c, "above the arm's cap of 300");
+  // Found by the fuzz target arm_process: 1e-40 mm/s planned a motion of
+  // 5e44 s, its times infinite as floats.
+  c = command_at(1000.0, 200.0);
+  c.max_speed_mm_s = 1e-40;
+  expect_rejected(c, "below the arm's minimum of 10 mm/s");
+  c.max_speed_mm_s = 10.0;
+  EXPECT_TRUE(validator_.validate(c, current_).ok);
 }
 
 TEST_F(CommandValidatorTest, RejectsTargetsOutsideTheImageOrTheField) {
