@@ -30,15 +30,21 @@ std::optional<arm::Joints> joints_of(const arm_state_t& m) {
   return q;
 }
 
+namespace {
+// b - a in us as a double: utimes from the bus can be anything, and their
+// int64_t difference can overflow (undefined); exact below 2^53 us.
+double minus_us(int64_t b, int64_t a) { return static_cast<double>(b) - static_cast<double>(a); }
+}  // namespace
+
 std::optional<arm::Joints> PoseFrameQueue::joints_at(int64_t utime) const {
   if (joints_.empty() || utime < joints_.front().first) return std::nullopt;
   if (utime >= joints_.back().first)
-    return utime - joints_.back().first < 50'000 ? std::optional(joints_.back().second)
-                                                 : std::nullopt;
+    return minus_us(utime, joints_.back().first) < 50'000 ? std::optional(joints_.back().second)
+                                                          : std::nullopt;
   for (std::size_t k = 1; k < joints_.size(); ++k) {
     if (joints_[k].first < utime) continue;
-    const double a = static_cast<double>(utime - joints_[k - 1].first) /
-                     static_cast<double>(joints_[k].first - joints_[k - 1].first);
+    const double a =
+        minus_us(utime, joints_[k - 1].first) / minus_us(joints_[k].first, joints_[k - 1].first);
     return arm::Joints((1.0 - a) * joints_[k - 1].second + a * joints_[k].second);
   }
   return std::nullopt;
@@ -129,7 +135,7 @@ rambo_pose_t FramePoser::pose(
       t_frame - motion_then->t_ref_s <= 5.0 * prior_max_age_s_ && t_frame >= motion_then->t_ref_s)
     prior_in_base = motion_then->pose(t_frame);
   else if (last_ && prior_max_age_s_ > 0 &&
-           static_cast<double>(f->utime - last_->first) * 1e-6 <= prior_max_age_s_)
+           minus_us(f->utime, last_->first) * 1e-6 <= prior_max_age_s_)
     prior_in_base = last_->second;
   *malformed = !finite;
   if (!finite) {
