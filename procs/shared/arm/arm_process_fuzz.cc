@@ -31,8 +31,11 @@
 // (estop_t), 2 ARM_SERVO (joint_state_t), 3 run the command task. The fake
 // wall clock starts at 1'700'000'000'000'000 us (the arm's start, so its
 // first trajectory is seq 1'700'000'000'000'001). Seeds:
-// fuzz_corpus/arm_process (a joint move executed with servo feedback; an
-// ESTOP in the middle of a motion, the stop taken up, released).
+// fuzz_corpus/arm_process: joint_move_done (a joint move executed with servo
+// feedback), estop_mid_motion (an ESTOP in the middle of a motion, the stop
+// taken up, a command refused while latched, the release),
+// given_trajectory_done (a joint trajectory executed as given); found_* are
+// the inputs of the faults this target found.
 //
 // The process's log is off; ARM_PROCESS_FUZZ_TRACE=1 in the environment
 // turns it on and prints every published trajectory and ack (for writing
