@@ -161,11 +161,11 @@ TEST(CatchDisplayStateTest, CatchCountFromTheSimulatorAndBadNumbersDrawNothing) 
   EXPECT_NO_THROW((void)j.dump());
 }
 
-// What the fuzz target catch_display found (issue 18): times from the
-// world model more than 2^63 us from the wall clock overflowed int64_t
-// (UBSan), and a position above ~1e307 mm was written as null (r1()
-// overflowed to infinity). The state's numbers are finite whatever a
-// message says.
+// Seen while writing the fuzz target catch_display (issue 18), as its
+// siblings found them: times from the world model more than 2^63 us from
+// the wall clock overflowed int64_t (undefined), and a position above
+// ~1e307 mm was written as null (r1() overflowed to infinity). The state's
+// numbers are finite whatever a message says.
 TEST(CatchDisplayStateTest, ExtremeTimesAndPositionsStayFiniteNumbers) {
   CatchDisplayState s({}, camera());
   s.on_board_pose(face_on(), 0);

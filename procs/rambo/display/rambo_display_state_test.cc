@@ -111,12 +111,12 @@ TEST(RamboDisplayState, StateCarriesImagePosesOrderAndTaggedDiodes) {
   EXPECT_EQ(m["diodes"].size(), 4u);
 }
 
-// What the fuzz target rambo_display found (issue 18): a rotation or
-// translation above ~1e303 was written as null (rounded() overflowed to
-// infinity), the indicator's required_s and acceptance_deg went out raw
-// (NaN as null), and a tagged time that is NaN or beyond int64_t was
-// converted to int64_t (undefined behaviour). Every number is finite; a
-// tagged time that is not one is null.
+// What the fuzz target rambo_display found (issue 18): a rotation above
+// ~1e303 was written as null (rounded() overflowed to infinity). Seen beside
+// it: the indicator's required_s and acceptance_deg went out raw (NaN as
+// null), and a tagged time that is NaN or beyond int64_t was converted to
+// int64_t (undefined). Every number is finite; a tagged time that is not one
+// is null.
 TEST(RamboDisplayState, CorruptMessagesLeaveFiniteNumbers) {
   RamboDisplayState s(rambo::RamboCell::make(4));
   TruthView t;
