@@ -12,15 +12,8 @@ namespace {
 using display::age_ms;
 using nlohmann::json;
 
-// display::rounded() and r1() for any finite x: theirs return infinity when
-// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a position
-// from a corrupt message), while such an x is a whole number already and is
-// kept as it is. (To go once common/display/json_format.h does this itself.)
-double rounded(double x, int digits) {
-  const double r = display::rounded(x, digits);
-  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
-}
-double r1(double x) { return rounded(x, 1); }
+using display::r1;
+using display::rounded;
 
 // b - a in s, for times in us from the messages (any int64_t: their
 // difference as int64_t may overflow).

@@ -9,14 +9,7 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-// display::rounded() for any finite x: it returns infinity when
-// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a translation
-// from a corrupt message), while such an x is a whole number already and is
-// kept as it is. (To go once common/display/json_format.h does this itself.)
-double rounded(double x, int digits) {
-  const double r = display::rounded(x, digits);
-  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
-}
+using display::rounded;
 
 // A time in us carried as a double (rambo_indicator_t.tagged_utime) as an
 // integer for the JSON; null when it is not a time (NaN, beyond int64_t).

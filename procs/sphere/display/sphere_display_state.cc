@@ -10,15 +10,8 @@ namespace {
 
 using display::age_ms;
 
-// display::rounded() and r1() for any finite x: theirs return infinity when
-// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a range from
-// a corrupt message), while such an x is a whole number already and is kept
-// as it is. (To go once common/display/json_format.h does this itself.)
-double rounded(double x, int digits) {
-  const double r = display::rounded(x, digits);
-  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
-}
-double r1(double x) { return rounded(x, 1); }
+using display::r1;
+using display::rounded;
 
 constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
 

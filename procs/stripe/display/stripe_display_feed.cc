@@ -9,15 +9,7 @@
 namespace ephor::stripe_display {
 namespace {
 
-// display::rounded() for any finite x: it returns infinity when
-// x * 10^digits overflows (|x| above ~1e307 / 10^digits, e.g. a number
-// from a corrupt message), while such an x is a whole number already and is
-// kept as it is. NaN and infinities become 0. (To go once
-// common/display/json_format.h does this itself.)
-double rounded(double x, int digits) {
-  const double r = display::rounded(x, digits);
-  return std::isfinite(r) ? r : (std::isfinite(x) ? x : 0.0);
-}
+using display::rounded;
 
 const char* state_name(int s) {
   switch (s) {
