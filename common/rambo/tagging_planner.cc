@@ -260,6 +260,18 @@ std::optional<TaggingTrajectory> TaggingPlanner::reaching_trajectory(
       out.samples.push_back(js);
     }
   }
+  // Every sample within the joint position limits: the stop after a hold
+  // that ends moving towards a limit can pass it (fuzz target
+  // rambo_planner: joint 5 at -1.7464 rad, its limit -1.7453), and the arm
+  // refuses such a trajectory whole. The planner sends a joint goal instead.
+  for (std::size_t k = 0; k < out.samples.size(); ++k) {
+    if (!lim.within(out.samples[k].q)) {
+      if (why)
+        *why = "the reaching trajectory leaves the joint limits at sample " + std::to_string(k) +
+               " of " + std::to_string(out.samples.size());
+      return std::nullopt;
+    }
+  }
   return out;
 }
 
