@@ -21,6 +21,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <fstream>
 #include <iostream>
@@ -110,8 +111,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1000000));
   app.add_option("--pause-s", pause_s, "between scans, s (default 3)")
       ->check(CLI::Range(0.0, 3600.0));
-  app.add_option("--speed-mm-s", speed_mm_s, "tool speed asked of the arm, mm/s (0 = its default)")
-      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--speed-mm-s", speed_mm_s,
+                 "tool speed asked of the arm, mm/s (0 = its default; the arm refuses below 10)")
+      ->check(CLI::Range(0.0, 10000.0))
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const double v = std::strtod(text.c_str(), nullptr);
+            return v == 0.0 || v >= 10.0 ? "" : "below the arm's 10 mm/s (0 = its default)";
+          },
+          "0 or >= 10"));
   app.add_option("--summary", summary_path, "write the last scan's JSON summary here");
   app.add_option("--duration", duration_s, "exit after this many seconds (0 = when done)")
       ->check(CLI::Range(0.0, 1e7));
