@@ -1,6 +1,7 @@
 #include "common/display/json_format.h"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -15,8 +16,8 @@ TEST(JsonFormat, RoundsToTheDigitsAsked) {
 
 TEST(JsonFormat, NotFiniteIsZero) {
   EXPECT_EQ(r1(std::nan("")), 0.0);
-  EXPECT_EQ(rounded(INFINITY, 2), 0.0);
-  EXPECT_EQ(rounded(-INFINITY, 2), 0.0);
+  EXPECT_EQ(rounded(std::numeric_limits<double>::infinity(), 2), 0.0);
+  EXPECT_EQ(rounded(-std::numeric_limits<double>::infinity(), 2), 0.0);
 }
 
 // Found by the rambo_display and sphere_display fuzz targets: a huge finite

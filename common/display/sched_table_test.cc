@@ -1,6 +1,7 @@
 #include "common/display/sched_table.h"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -36,10 +37,10 @@ TEST(SchedTableTest, SharesThatAreNotFiniteAreZero) {
   SchedTable t;
   HostSched a;
   a.host = "sensor";
-  a.cpu_utilisation = {NAN, 0.25};
-  a.cpu_bound = {INFINITY};
+  a.cpu_utilisation = {std::nan(""), 0.25};
+  a.cpu_bound = {std::numeric_limits<double>::infinity()};
   TaskRow row;
-  row.utilisation = NAN;
+  row.utilisation = std::nan("");
   a.tasks.push_back(row);
   t.on_sched(a);
   const auto j = t.to_json();
