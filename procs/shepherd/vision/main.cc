@@ -34,6 +34,7 @@
 #include "ephor/camera_frame_t.hpp"
 #include "ephor/shepherd_blobs_t.hpp"
 #include "ephor/shepherd_vision_cmd_t.hpp"
+#include "procs/shepherd/vision/frame_check.h"
 
 namespace {
 
@@ -58,23 +59,6 @@ std::string describe(const VisionSettings& s) {
                                                        : std::to_string(s.threshold));
 }
 
-// "" when the frame's fields agree with each other, else the problem.
-std::string check_frame(const ephor::camera_frame_t& f) {
-  if (f.width <= 0 || f.height <= 0 || f.width > ephor::vision::kMaxImageDim ||
-      f.height > ephor::vision::kMaxImageDim) {
-    return "frame " + std::to_string(f.frame_index) + " has size " + std::to_string(f.width) +
-           " x " + std::to_string(f.height) + " px (want 1.." +
-           std::to_string(ephor::vision::kMaxImageDim) + ")";
-  }
-  const int64_t want = static_cast<int64_t>(f.width) * f.height;
-  if (f.size != want || static_cast<int64_t>(f.data.size()) != want) {
-    return "frame " + std::to_string(f.frame_index) + " carries " + std::to_string(f.data.size()) +
-           " bytes (size field " + std::to_string(f.size) +
-           "), want width * height = " + std::to_string(want);
-  }
-  return "";
-}
-
 // The vision task: everything here runs on the task's thread, except the
 // mailboxes' put() (bus thread).
 class VisionTask {
@@ -97,7 +81,7 @@ class VisionTask {
     const auto frame = frame_wait_.count() > 0 ? frames_->wait_take(frame_wait_) : frames_->take();
     if (!frame) return;  // no new frame since the last job
     const ephor::camera_frame_t& f = (*frame)->msg;
-    std::string problem = check_frame(f);
+    std::string problem = ephor::vision::check_frame(f);
     ephor::vision::FrameResult r;
     if (problem.empty()) {
       const ephor::vision::ImageView view{f.data.data(), f.width, f.height, f.width};

@@ -1,12 +1,12 @@
 // Fuzz target (issue 18): camera frames as ephor-vision handles them: the
 // settings of a VISION_CMD (checked, applied only when valid), then up to
-// four frames, each checked as main.cc's check_frame does (a size field or a
-// pixel count that disagrees with width x height is refused) and searched by
-// the VisionPipeline, whose state (threshold, tracks) carries from frame to
-// frame. Sizes up to 96 x 96 px with the pixels taken from the input, so
-// blobs of any shape, all-object frames and noise all come up; the size
-// limits themselves (kMaxImageDim) are checked without pixels.
-// Seeds: fuzz_corpus/shepherd_vision.
+// four CAMERA_FRAMEs, each checked by check_frame() as the process checks
+// it (a size field or a pixel count that disagrees with width x height is
+// refused) and searched by the VisionPipeline, whose state (threshold,
+// tracks) carries from frame to frame. Sizes up to 96 x 96 px with the
+// pixels taken from the input, so blobs of any shape, all-object frames and
+// noise all come up; the size limits themselves (kMaxImageDim) are checked
+// without pixels. Seeds: fuzz_corpus/shepherd_vision.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -14,27 +14,11 @@
 
 #include "common/fuzz/fuzz_input.h"
 #include "common/shepherd/vision/vision_pipeline.h"
+#include "ephor/camera_frame_t.hpp"
+#include "procs/shepherd/vision/frame_check.h"
 
 using ephor::fuzz::FuzzBytes;
 namespace vision = ephor::vision;
-
-namespace {
-
-struct Frame {
-  int32_t width = 0, height = 0, size = 0;
-  std::vector<uint8_t> data;
-};
-
-// As procs/shepherd/vision/main.cc's check_frame.
-bool frame_ok(const Frame& f) {
-  if (f.width <= 0 || f.height <= 0 || f.width > vision::kMaxImageDim ||
-      f.height > vision::kMaxImageDim)
-    return false;
-  const int64_t want = static_cast<int64_t>(f.width) * f.height;
-  return f.size == want && static_cast<int64_t>(f.data.size()) == want;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FuzzBytes in(data, size);
@@ -49,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       ephor::fuzz::fail("settings that check_settings passed refused");
   }
   for (int k = 0; k < 4 && !in.empty(); ++k) {
-    Frame f;
+    ephor::camera_frame_t f{};
     f.width = static_cast<int32_t>(in.take_in(-1, 96));
     f.height = static_cast<int32_t>(in.take_in(-1, 96));
     const int64_t pixels = f.width > 0 && f.height > 0 ? int64_t{f.width} * f.height : 0;
@@ -71,7 +55,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       f.data.resize(static_cast<size_t>(pixels));
       for (uint8_t& p : f.data) p = in.take<uint8_t>();
     }
-    if (!frame_ok(f)) continue;  // refused and counted, as the process does
+    // A frame check_frame() passes is searched over width * height bytes
+    // of its data: ASan stops the run if the check let a short one through.
+    const std::string problem = vision::check_frame(f);
+    if (!problem.empty()) continue;  // refused and counted, as the process does
     const vision::ImageView view{f.data.data(), f.width, f.height, f.width};
     const vision::FrameResult r = pipeline.process(view);
     if (r.blobs == nullptr) ephor::fuzz::fail("a frame result without its blob list");
