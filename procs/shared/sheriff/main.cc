@@ -21,8 +21,6 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <deque>
-#include <mutex>
 #include <sstream>
 
 #include <CLI/CLI.hpp>
@@ -34,6 +32,7 @@
 #include "common/runtime/process_args.h"
 #include "common/time/clock.h"
 #include "procs/shared/sheriff/sheriff.h"
+#include "procs/shared/sheriff/status_messages.h"
 
 namespace {
 
@@ -48,20 +47,6 @@ void say(const std::string& text) {
 std::string hostname() {
   char buf[256] = {};
   return gethostname(buf, sizeof buf - 1) == 0 ? buf : "localhost";
-}
-
-// What changes the table in a way worth printing again (not CPU or uptime).
-std::string table_signature(const Sheriff& s, int64_t now_ns) {
-  std::string sig;
-  for (const auto& h : s.hosts())
-    sig += h.name + (now_ns - h.last_status_ns < 2'500'000'000 ? "+" : "-");
-  for (const auto& p : s.processes()) {
-    sig += "|" + p.host + "/" + p.name + (p.desired_run ? "1" : "0");
-    if (p.reported)
-      sig += p.reported->state + std::to_string(p.reported->pid) +
-             std::to_string(p.reported->restarts);
-  }
-  return sig;
 }
 
 std::optional<Command> parse_command(const std::string& word) {
@@ -177,23 +162,11 @@ int main(int argc, char** argv) {
   try {
     Sheriff sheriff(manifest, options);
     Bus bus(options.lcm_url, "sheriff");
-    std::mutex status_mutex;
-    std::deque<std::pair<deputy_status_t, int64_t>> statuses;  // with receive wall time, us
-    bus.subscribe<deputy_status_t>(channels::kDeputyStatus, [&](const deputy_status_t& s) {
-      const int64_t received_us = wall_us();
-      std::lock_guard<std::mutex> lock(status_mutex);
-      statuses.emplace_back(s, received_us);
-    });
+    StatusInbox inbox;
+    bus.subscribe<deputy_status_t>(channels::kDeputyStatus,
+                                   [&](const deputy_status_t& s) { inbox.receive(s, wall_us()); });
     bus.start();
-    auto drain_status = [&] {
-      std::deque<std::pair<deputy_status_t, int64_t>> batch;
-      {
-        std::lock_guard<std::mutex> lock(status_mutex);
-        batch.swap(statuses);
-      }
-      for (const auto& [s, received_us] : batch) sheriff.on_status(s, mono_ns(), received_us);
-      return !batch.empty();
-    };
+    auto drain_status = [&] { return inbox.drain(sheriff, mono_ns()); };
 
     say("manifest " + manifest.name() + ", LCM " + options.lcm_url + "; listening to deputies");
     const int64_t listen_end = mono_ns() + static_cast<int64_t>(listen_s * 1e9);

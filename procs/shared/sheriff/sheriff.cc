@@ -3,6 +3,7 @@
 #include <google/protobuf/text_format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 
@@ -18,6 +19,24 @@ bool is_down_for_good(const std::string& state) { return state == "failed" || st
 bool is_stopped(const std::string& state) {
   return state == "stopped" || state == "failed" || state == "finished";
 }
+
+// `text` as one line of at most `max` characters, for the table and what
+// converged() waits for: a deputy's row may hold any bytes (its names,
+// state and reason), and a newline or a terminal's control sequence in them
+// would break the table; a control character is shown as '?', a longer text
+// is cut with "...". The caps keep a table line within its 512 bytes.
+std::string printable(const std::string& text, size_t max) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    out.push_back(u < 0x20 || u == 0x7f ? '?' : c);
+  }
+  if (out.size() > max) out = out.substr(0, max - 3) + "...";
+  return out;
+}
+constexpr size_t kNameMax = 40;
+constexpr size_t kStateMax = 12;
+constexpr size_t kReasonMax = 160;
 
 // Seconds with one decimal, e.g. "2.6".
 std::string seconds_1dp(double s) {
@@ -150,6 +169,19 @@ void Sheriff::adopt(bool default_run) {
 }
 
 void Sheriff::command(Command command, const std::string& target) {
+  // A new run is the newest run id + 1; a deputy reporting the last id there
+  // is leaves none (refused before anything changes, also for "all").
+  for (const auto& p : processes_) {
+    if (!p.in_manifest || (target != "all" && p.name != target)) continue;
+    const bool new_run =
+        command == Command::kRestart ||
+        (command == Command::kStart && p.reported && is_down_for_good(p.reported->state));
+    const int32_t reported_id = p.reported ? p.reported->run_id : -1;
+    if (new_run && std::max(reported_id, p.desired_run_id) == INT32_MAX)
+      throw std::invalid_argument("process '" + p.name + "' on " + p.host +
+                                  ": its deputy reports run id " + std::to_string(INT32_MAX) +
+                                  ", the last there is; restart that deputy for a new run");
+  }
   bool found = false;
   for (auto& p : processes_) {
     if (!p.in_manifest || (target != "all" && p.name != target)) continue;
@@ -231,13 +263,16 @@ bool Sheriff::converged(int64_t now_ns, std::vector<std::string>* waiting_for) c
       if (!r)
         problem = "not started yet";
       else if (!(r->state == "running" || (allow_exit && r->state == "finished")))
-        problem = r->state + (r->reason.empty() ? "" : " (" + r->reason + ")");
+        problem = printable(r->state, kStateMax) +
+                  (r->reason.empty() ? "" : " (" + printable(r->reason, kReasonMax) + ")");
       else if (p.desired_run_id >= 0 && r->run_id < p.desired_run_id)
         problem = "restart pending";
     } else if (r && !is_stopped(r->state)) {
-      problem = r->state;
+      problem = printable(r->state, kStateMax);
     }
-    if (!problem.empty()) waiting.push_back(p.name + "@" + p.host + ": " + problem);
+    if (!problem.empty())
+      waiting.push_back(printable(p.name, kNameMax) + "@" + printable(p.host, kNameMax) + ": " +
+                        problem);
   }
   if (waiting_for != nullptr) *waiting_for = waiting;
   return waiting.empty();
@@ -280,17 +315,18 @@ std::string Sheriff::table(int64_t now_ns) const {
     for (const auto& p : processes_) any = any || p.host == h.name;
     if (!any) continue;
     const bool alive = host_alive(h, now_ns);
+    const std::string host = printable(h.name, kNameMax);
     if (alive && h.offset_plus_delay_us != 0) {
       std::snprintf(line, sizeof line,
-                    "%s: deputy pid %d, load %.2f, clock offset + delay %+.1f ms\n", h.name.c_str(),
+                    "%s: deputy pid %d, load %.2f, clock offset + delay %+.1f ms\n", host.c_str(),
                     h.deputy_pid, static_cast<double>(h.load),
                     static_cast<double>(h.offset_plus_delay_us) * 1e-3);
       out += line;
     }
     if (!alive) {
-      out += h.name + ": " +
+      out += host + ": " +
              (h.last_status_ns < 0
-                  ? std::string("no deputy heard (run: ephor-deputy --host ") + h.name + ")"
+                  ? std::string("no deputy heard (run: ephor-deputy --host ") + host + ")"
                   : "DEPUTY LOST, no status for " +
                         seconds_1dp(static_cast<double>(now_ns - h.last_status_ns) * 1e-9) +
                         " s; last known:") +
@@ -300,16 +336,18 @@ std::string Sheriff::table(int64_t now_ns) const {
       if (p.host != h.name) continue;
       const bool scheduler = !p.in_manifest && p.name == kScheduler;
       const char* want = p.in_manifest ? (p.desired_run ? "run" : "stop") : scheduler ? "run" : "-";
+      const std::string name = printable(p.name, kNameMax);
       if (!p.reported) {
         std::snprintf(line, sizeof line, "%-10s %-12s %-9s %-4s %7s %4s %6s %7s %8s  %s\n",
-                      h.name.c_str(), p.name.c_str(), "-", want, "-", "-", "-", "-", "-",
+                      host.c_str(), name.c_str(), "-", want, "-", "-", "-", "-", "-",
                       "not reported by the deputy");
       } else {
         const auto& r = *p.reported;
-        std::snprintf(line, sizeof line, "%-10s %-12s %-9s %-4s %7d %4d %6.1f %7.1f %8.1f  %s\n",
-                      h.name.c_str(), p.name.c_str(), r.state.c_str(), want, r.pid, r.restarts,
-                      static_cast<double>(r.cpu_percent), static_cast<double>(r.rss_bytes) / 1e6,
-                      static_cast<double>(r.uptime_us) * 1e-6, r.reason.c_str());
+        std::snprintf(
+            line, sizeof line, "%-10s %-12s %-9s %-4s %7d %4d %6.1f %7.1f %8.1f  %s\n",
+            host.c_str(), name.c_str(), printable(r.state, kStateMax).c_str(), want, r.pid,
+            r.restarts, static_cast<double>(r.cpu_percent), static_cast<double>(r.rss_bytes) / 1e6,
+            static_cast<double>(r.uptime_us) * 1e-6, printable(r.reason, kReasonMax).c_str());
       }
       out += line;
     }

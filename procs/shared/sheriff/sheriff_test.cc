@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
+
 #include "common/config/manifest.h"
 
 namespace ephor::sheriff {
@@ -186,6 +189,47 @@ TEST(Sheriff, OneShotOrdersSkipHostsNeverHeard) {
   const auto orders = s.orders(/*only_heard_hosts=*/true);
   ASSERT_EQ(orders.size(), 1u);  // planning's processes are not stopped unseen
   EXPECT_EQ(orders[0].host, "arm");
+}
+
+// Found by the fuzz target sheriff_status: a deputy's row is any bytes, and
+// a newline in a name broke the table into a line of its own, a name longer
+// than a line lost the line's end (and the next line ran on).
+TEST(Sheriff, TableShowsAnyReportedNameOnItsOwnLine) {
+  Sheriff s = make();
+  auto extra = row("rec\norder", "running");
+  extra.reason = "a\033[2Jb";
+  s.on_status(
+      status("planning", {row("vision", "running"), extra, row(std::string(600, 'x'), "running")}),
+      0);
+  s.on_status(status("arm", {row("arm", "backoff")}), 0);
+  s.adopt(true);
+  const std::string table = s.table(1 * kS);
+  // Header, the planning host's 5 rows (scheduler, vision, display and the
+  // two extras), the arm host's 2 (scheduler, arm).
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 8) << table;
+  EXPECT_NE(table.find("rec?order"), std::string::npos) << table;
+  EXPECT_NE(table.find("a?[2Jb"), std::string::npos) << table;
+  EXPECT_NE(table.find(std::string(37, 'x') + "..."), std::string::npos) << table;
+  for (char c : table) EXPECT_TRUE(c == '\n' || static_cast<unsigned char>(c) >= 0x20);
+}
+
+// Found by the fuzz target sheriff_status: a restart after a deputy reported
+// run id 2^31 - 1 overflowed the next run id (to -2^31: "any run").
+TEST(Sheriff, NoNewRunPastTheLastRunId) {
+  Sheriff s = make();
+  s.on_status(status("arm", {row("arm", "running", true, INT32_MAX)}), 0);
+  s.adopt(true);
+  try {
+    s.command(Command::kRestart, "all");
+    FAIL() << "a restart past run id 2^31 - 1 taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'arm' on arm: its deputy reports run id 2147483647"),
+              std::string::npos)
+        << e.what();
+  }
+  for (const auto& p : s.processes()) EXPECT_EQ(p.desired_run_id, -1) << p.name;  // nothing changed
+  s.command(Command::kStop, "arm");  // stopping needs no new run
+  EXPECT_FALSE(s.find("arm", "arm")->desired_run);
 }
 
 TEST(Sheriff, ParametersAndNamesAreChecked) {

@@ -47,6 +47,7 @@
 #include "ephor/stripe_capture_t.hpp"
 #include "ephor/stripe_image_t.hpp"
 #include "procs/stripe/calibrate/calibration_run.h"
+#include "procs/stripe/calibrate/rig_messages.h"
 
 namespace {
 
@@ -63,25 +64,19 @@ class Stopped : public std::runtime_error {
 class BusRig : public CalibrationRig {
  public:
   BusRig(Bus& bus, std::string name, const std::atomic<bool>& stop)
-      : bus_(bus), name_(std::move(name)), stop_(stop) {
+      : bus_(bus), inbox_(std::move(name)), stop_(stop) {
     bus_.subscribe<arm_state_t>(ephor::channels::kArmState, [this](const arm_state_t& m) {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!arm_q_) spdlog::info("the arm is heard");
-      arm_q_ = joints_of(m.q);
+      if (inbox_.on_arm_state(m)) spdlog::info("the arm is heard");
       cv_.notify_all();
     });
     bus_.subscribe<motion_done_t>(ephor::channels::kMotionDone, [this](const motion_done_t& m) {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (m.goal_id != goal_id_) return;
-      done_ = m;
-      cv_.notify_all();
+      if (inbox_.on_motion_done(m)) cv_.notify_all();
     });
     bus_.subscribe<stripe_image_t>(stripe::channels::kImage, [this](const stripe_image_t& m) {
-      if (m.requester != name_) return;
       std::lock_guard<std::mutex> lock(mutex_);
-      if (m.request_id != request_id_) return;
-      image_ = m;
-      cv_.notify_all();
+      if (inbox_.on_image(m)) cv_.notify_all();
     });
   }
 
@@ -94,7 +89,7 @@ class BusRig : public CalibrationRig {
   // Waits for the arm's state (comm holds goals until it has heard it too).
   void wait_for_arm() {
     std::unique_lock<std::mutex> lock(mutex_);
-    while (!arm_q_) wait(lock, 1.0);
+    while (!inbox_.arm_heard()) wait(lock, 1.0);
   }
 
   int skipped() const { return skipped_; }
@@ -111,67 +106,43 @@ class BusRig : public CalibrationRig {
     const double t0 = static_cast<double>(mono_ns()) * 1e-9;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      goal_id_ = ++goals_;
-      done_.reset();
-      arm_goal_t g{};
-      g.utime = wall_us();
-      g.goal_id = goal_id_;
-      g.kind = arm_goal_t::KIND_JOINTS;
-      set_joints(q, g.joints_rad);
-      g.target_object = -1;
+      arm_goal_t g = inbox_.next_goal(q, wall_us());
       bus_.publish(ephor::channels::kArmGoal, g);
       const int64_t give_up = mono_ns() + 120'000'000'000LL;
-      while (!done_) {
+      while (!inbox_.done()) {
         if (mono_ns() > give_up)
-          throw CalibrationError("no MOTION_DONE for view " + std::to_string(goal_id_) +
+          throw CalibrationError("no MOTION_DONE for view " + std::to_string(inbox_.goal_id()) +
                                  " in 120 s (are comm and the arm running?)");
         wait(lock, 0.2);
       }
       motion_s_ += static_cast<double>(mono_ns()) * 1e-9 - t0;
-      if (done_->status == motion_done_t::STATUS_REJECTED) {
+      if (!inbox_.view_reached()) {
         // Out of the arm's reach or colliding by its own checks: no view.
         ++skipped_;
-        spdlog::warn("view {} skipped: the arm refused it: {}", goal_id_, done_->reason);
+        spdlog::warn("view {} skipped: the arm refused it: {}", inbox_.goal_id(),
+                     inbox_.done()->reason);
         last_q_ = q;
         return cv::Mat(256, 256, CV_8UC1, cv::Scalar(0));
       }
-      if (done_->status != motion_done_t::STATUS_DONE)
-        throw CalibrationError("the arm did not finish the move to view " +
-                               std::to_string(goal_id_) + ": " + done_->reason);
     }
     for (int attempt = 0; attempt < 10; ++attempt) {
       std::unique_lock<std::mutex> lock(mutex_);
-      request_id_ = goal_id_;  // one capture per view
-      image_.reset();
-      stripe_capture_t c{};
-      c.utime = wall_us();
-      c.request_id = request_id_;
-      c.scan_id = 0;
-      c.stripe_index = -1;
-      c.mode = mode;
+      stripe_capture_t c = inbox_.next_capture(mode, wall_us());
       bus_.publish(stripe::channels::kCapture, c);
       const int64_t give_up = mono_ns() + 1'000'000'000LL;
-      while (!image_ && mono_ns() < give_up) wait(lock, 0.05);
-      if (!image_) continue;
-      std::string why;
-      cv::Mat img = image_of(*image_, &why);
-      if (img.empty()) throw CalibrationError("a bad image from the camera: " + why);
-      last_q_ = joints_of(image_->q);
-      return img;
+      while (!inbox_.image() && mono_ns() < give_up) wait(lock, 0.05);
+      if (!inbox_.image()) continue;
+      return inbox_.view_image(&last_q_);
     }
-    throw CalibrationError("no image from the camera for view " + std::to_string(goal_id_) +
+    throw CalibrationError("no image from the camera for view " + std::to_string(inbox_.goal_id()) +
                            " after 10 requests (is the simulator running?)");
   }
 
   Bus& bus_;
-  std::string name_;
+  RigInbox inbox_;
   const std::atomic<bool>& stop_;
   std::mutex mutex_;
   std::condition_variable cv_;
-  std::optional<arm::Joints> arm_q_;
-  int64_t goals_ = 0, goal_id_ = 0, request_id_ = 0;
-  std::optional<motion_done_t> done_;
-  std::optional<stripe_image_t> image_;
   arm::Joints last_q_ = arm::Joints::Zero();
   int skipped_ = 0;
   double motion_s_ = 0.0;

@@ -23,9 +23,7 @@
 
 #include <atomic>
 #include <cmath>
-#include <deque>
 #include <iostream>
-#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -33,7 +31,6 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "common/arm/arm_servo.h"
 #include "common/arm/arm_workcell.h"
 #include "common/arm/servo_messages.h"
 #include "common/config/repo_paths.h"
@@ -54,67 +51,12 @@
 #include "ephor/stripe_capture_t.hpp"
 #include "ephor/stripe_image_t.hpp"
 #include "ephor/stripe_truth_t.hpp"
+#include "procs/stripe/sim/sim_messages.h"
 
 namespace {
 
 using namespace ephor;
 using namespace ephor::stripe;
-
-constexpr double kStepS = 0.001;
-constexpr double kMaxLagS = 0.5;
-
-struct Servo {
-  std::mutex mutex;
-  sim::ArmServo servo;
-  std::optional<sim::JointTrajectory> pending;
-  double clock_s = 0.0;
-  int64_t mono0_ns = 0;
-  int ticks = 0;
-  explicit Servo(const arm::JointLimits& limits)
-      : servo(limits, StripeWorkcell::reference_joints()) {}
-
-  // Caller holds the mutex.
-  void advance_to_now() {
-    const double now_s = static_cast<double>(mono_ns() - mono0_ns) * 1e-9;
-    if (now_s - clock_s > kMaxLagS) {
-      spdlog::warn("servo {:.3f} s behind the clock; skipping ahead", now_s - clock_s);
-      clock_s = now_s - kStepS;
-    }
-    while (clock_s + kStepS <= now_s) {
-      if (pending) {
-        servo.follow(*pending);
-        pending.reset();
-      }
-      servo.step(kStepS);
-      clock_s += kStepS;
-    }
-  }
-};
-
-stripe_truth_t truth_message(const StripeWorld& world, int robot_seed, const std::string& scene,
-                             const arm::Joints& q, int64_t utime, int64_t image_index) {
-  stripe_truth_t t{};
-  t.utime = utime;
-  t.image_index = image_index;
-  t.robot_seed = robot_seed;
-  t.scene = scene;
-  set_joints(q, t.q);
-  const RobotTruth& truth = world.truth();
-  set_joints(truth.arm.errors().zero_offset_rad, t.zero_offset_rad);
-  for (int j = 0; j < 6; ++j) {
-    t.dh_error[3 * j] = truth.arm.errors().dh_error[static_cast<size_t>(j)].d_mm;
-    t.dh_error[3 * j + 1] = truth.arm.errors().dh_error[static_cast<size_t>(j)].a_mm;
-    t.dh_error[3 * j + 2] = truth.arm.errors().dh_error[static_cast<size_t>(j)].alpha_rad;
-  }
-  set_pose(world.flange_in_table(q), t.flange_r, t.flange_t_mm);
-  set_pose(truth.cage.camera_in_flange, t.camera_in_flange_r, t.camera_in_flange_t_mm);
-  set_pose(truth.cage.projector_in_flange, t.projector_in_flange_r, t.projector_in_flange_t_mm);
-  t.fx_px = truth.cage.camera.fx_px;
-  t.fy_px = truth.cage.camera.fy_px;
-  t.cx_px = truth.cage.camera.cx_px;
-  t.cy_px = truth.cage.camera.cy_px;
-  return t;
-}
 
 }  // namespace
 
@@ -154,48 +96,49 @@ int main(int argc, char** argv) {
         scene_path.empty() ? StripeScene() : StripeScene::load(resolve_repo_path(scene_path));
     const RobotTruth truth = robot_seed == 0 ? RobotTruth::ideal() : RobotTruth::draw(robot_seed);
     const StripeWorld world(scene, StripeWorkcell::from_workcell(workcell), truth);
-    Servo s(arm::make_puma(workcell).limits());
+    std::mutex servo_mutex;
+    SimServo servo(arm::make_puma(workcell).limits());
+    int64_t mono0_ns = 0;
+    auto advance_to_now = [&] {  // caller holds servo_mutex
+      servo.advance_to(static_cast<double>(mono_ns() - mono0_ns) * 1e-9);
+    };
 
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex capture_mutex;
-    std::deque<stripe_capture_t> requests;
-    std::map<std::string, stripe_image_t> last_answer;  // per requester
-    std::atomic<int64_t> images{0}, repeats{0}, refused{0};
+    CaptureDesk desk;
+    std::atomic<int64_t> images{0}, repeats{0}, refused{0}, refused_captures{0};
 
     bus.subscribe<joint_trajectory_t>(
         ephor::channels::kArmTrajectory, [&](const joint_trajectory_t& m) {
           std::string why;
-          auto t = sim::to_trajectory(m, why);
-          if (!t) {
+          std::lock_guard<std::mutex> lock(servo_mutex);
+          if (!servo.on_trajectory(m, &why)) {
             ++refused;
             spdlog::warn("ARM_TRAJECTORY seq {} ignored: {}", m.seq, why);
-            return;
           }
-          std::lock_guard<std::mutex> lock(s.mutex);
-          s.pending = std::move(*t);
         });
     bus.subscribe<stripe_capture_t>(stripe::channels::kCapture, [&](const stripe_capture_t& m) {
-      if (m.mode != stripe_capture_t::MODE_STRIPE && m.mode != stripe_capture_t::MODE_SPOT) {
-        spdlog::warn("STRIPE_CAPTURE from {} ignored: unknown mode {}", m.header.sender, m.mode);
-        return;
-      }
       {
+        std::string why;
         std::lock_guard<std::mutex> lock(capture_mutex);
-        if (requests.size() >= 16) requests.pop_front();
-        requests.push_back(m);
+        if (!desk.on_capture(m, &why)) {
+          ++refused_captures;
+          spdlog::warn("STRIPE_CAPTURE from {} ignored: {}", m.header.sender, why);
+          return;
+        }
       }
       runtime.trigger("camera");
     });
 
-    s.mono0_ns = mono_ns();
+    mono0_ns = mono_ns();
     runtime.add_periodic("physics", std::chrono::milliseconds(2), [&] {
       joint_state_t m;
       {
-        std::lock_guard<std::mutex> lock(s.mutex);
-        s.advance_to_now();
-        if (++s.ticks % 2 != 0) return;  // ARM_SERVO at 250 Hz
-        m = sim::to_joint_state(s.servo.state(), wall_us());
+        std::lock_guard<std::mutex> lock(servo_mutex);
+        advance_to_now();
+        if (!servo.servo_tick()) return;  // ARM_SERVO at 250 Hz
+        m = sim::to_joint_state(servo.state(), wall_us());
       }
       bus.publish(ephor::channels::kArmServo, m);
     });
@@ -205,13 +148,12 @@ int main(int argc, char** argv) {
         stripe_capture_t req;
         {
           std::lock_guard<std::mutex> lock(capture_mutex);
-          if (requests.empty()) return;
-          req = requests.front();
-          requests.pop_front();
-          const auto it = last_answer.find(req.header.sender);
-          if (it != last_answer.end() && it->second.request_id == req.request_id) {
+          std::optional<stripe_capture_t> next = desk.next();
+          if (!next) return;
+          req = std::move(*next);
+          if (const stripe_image_t* answer = desk.repeat_of(req)) {
             ++repeats;
-            stripe_image_t again = it->second;
+            stripe_image_t again = *answer;
             bus.publish(stripe::channels::kImage, again);
             continue;
           }
@@ -222,10 +164,10 @@ int main(int argc, char** argv) {
         for (;;) {
           bool rest = false;
           {
-            std::lock_guard<std::mutex> lock(s.mutex);
-            s.advance_to_now();
-            q = s.servo.state().q;
-            rest = s.servo.state().qd.cwiseAbs().maxCoeff() < 1e-4;
+            std::lock_guard<std::mutex> lock(servo_mutex);
+            advance_to_now();
+            q = servo.state().q;
+            rest = servo.at_rest();
           }
           if (rest || mono_ns() >= give_up) break;
           sleep_until_mono_ns(mono_ns() + 1'000'000);
@@ -236,40 +178,22 @@ int main(int argc, char** argv) {
         const cv::Mat img = req.mode == stripe_capture_t::MODE_SPOT
                                 ? world.spot_image(q, image_seed)
                                 : world.image(q, image_seed);
-        stripe_image_t m;
-        m.utime = utime;
-        m.requester = req.header.sender;
-        m.request_id = req.request_id;
-        m.scan_id = req.scan_id;
-        m.stripe_index = req.stripe_index;
-        m.mode = req.mode;
-        m.image_index = index;
-        set_joints(q, m.q);
-        m.width = img.cols;
-        m.height = img.rows;
-        m.size = static_cast<int32_t>(img.total());
-        m.data.assign(img.data, img.data + img.total());
+        stripe_image_t m = image_message_of(req, img, q, utime, index);
         bus.publish(stripe::channels::kImage, m);
-        camera_frame_t frame;  // the same pixels for pages and lcm-spy
-        frame.utime = utime;
-        frame.frame_index = index;
-        frame.width = m.width;
-        frame.height = m.height;
-        frame.size = m.size;
-        frame.data = m.data;
+        camera_frame_t frame = camera_frame_of(m);  // the same pixels for pages and lcm-spy
         bus.publish(stripe::channels::kCamera, frame);
         stripe_truth_t t = truth_message(world, robot_seed, scene_path, q, utime, index);
         bus.publish(stripe::channels::kTruth, t);
         std::lock_guard<std::mutex> lock(capture_mutex);
-        last_answer[req.header.sender] = m;
+        desk.answered(m);
       }
     });
 
     runtime.add_periodic("truth", std::chrono::seconds(1), [&] {
       arm::Joints q;
       {
-        std::lock_guard<std::mutex> lock(s.mutex);
-        q = s.servo.state().q;
+        std::lock_guard<std::mutex> lock(servo_mutex);
+        q = servo.state().q;
       }
       stripe_truth_t t = truth_message(world, robot_seed, scene_path, q, wall_us(), -1);
       bus.publish(stripe::channels::kTruth, t);
@@ -283,8 +207,10 @@ int main(int argc, char** argv) {
         scene_path.empty() ? "the empty table" : scene_path, scene.mesh().faces.size());
     wait_for_shutdown_signal(duration_s);
     runtime.stop();
-    spdlog::info("summary: {} images ({} repeats answered), {} trajectories refused", images.load(),
-                 repeats.load(), refused.load());
+    spdlog::info(
+        "summary: {} images ({} repeats answered), {} trajectories refused, {} captures "
+        "refused",
+        images.load(), repeats.load(), refused.load(), refused_captures.load());
   } catch (const ConfigError& e) {
     std::cerr << "ephor-stripe-sim: " << e.what() << "\n";
     return 2;
