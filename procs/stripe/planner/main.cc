@@ -22,16 +22,14 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
-#include <deque>
-#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
 #include "common/config/repo_paths.h"
 #include "common/config/text_proto.h"
@@ -55,6 +53,7 @@
 #include "ephor/stripe_points_t.hpp"
 #include "ephor/stripe_profile_t.hpp"
 #include "ephor/stripe_scan_t.hpp"
+#include "procs/stripe/planner/plan_task.h"
 #include "procs/stripe/planner/planner_messages.h"
 #include "procs/stripe/planner/raster_plan.h"
 #include "procs/stripe/planner/scan_sequencer.h"
@@ -63,11 +62,6 @@ namespace {
 
 using namespace ephor;
 using namespace ephor::stripe;
-
-// Paper 004, section 5: "a system such as we are discussing should be able to
-// image 3 or 4 stripes of 256 three-dimensional points per second if
-// scanning is done in a regular raster".
-constexpr double kPaperStripesPerS = 3.5;
 
 double now_s() { return static_cast<double>(mono_ns()) * 1e-9; }
 
@@ -156,11 +150,10 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
     std::mutex mutex;
-    std::deque<PlanEvent> events;
+    std::vector<PlanEvent> events;
     std::optional<arm::Joints> arm_q;
     bool arm_moving = false;
     std::atomic<bool> finished{false};
-    int exit_code = 0;
 
     auto push = [&](PlanEvent e) {
       {
@@ -188,132 +181,39 @@ int main(int argc, char** argv) {
     bus.subscribe<stripe_cloud_t>(stripe::channels::kCloud,
                                   [&](const stripe_cloud_t& m) { push(event_of(m)); });
 
-    // The scan in hand (task thread only).
-    std::optional<ScanSequencer> seq;
-    // Goal and request ids count up from this start's wall clock (us): a
-    // restarted planner's ids never repeat the old one's (the arm would log
-    // the same goal twice; the camera answers a request id it has answered
-    // before with that old image).
-    int64_t scan_id = 0, next_goal = wall_us(), next_request = wall_us();
-    int last_goal_stripe = -1, last_retaken = 0, last_range_losses = 0;
-    int scans_done = 0;
-    double last_status_s = 0.0, pause_until_s = 0.0;
-    ScanCpu cpu;
-    CloudEvent last_cloud{};
-    nlohmann::json summary;
+    // The task's answers, on the bus.
+    class BusOutputs : public PlanOutputs {
+     public:
+      explicit BusOutputs(Bus& bus) : bus_(bus) {}
+      void goal(const GoalAction&, arm_goal_t m) override {
+        bus_.publish(ephor::channels::kArmGoal, m);
+      }
+      void capture(const CaptureAction&, stripe_capture_t m) override {
+        bus_.publish(stripe::channels::kCapture, m);
+      }
+      void scan(stripe_scan_t m) override { bus_.publish(stripe::channels::kScan, m); }
 
-    auto publish_scan = [&](double t) {
-      stripe_scan_t m = scan_message_of(*seq, spec, scan_id, t);
-      m.utime = wall_us();
-      bus.publish(stripe::channels::kScan, m);
-      last_status_s = t;
+     private:
+      Bus& bus_;
+    } outputs(bus);
+    PlanTaskConfig config;
+    config.spec = spec;
+    config.speed_mm_s = speed_mm_s;
+    config.scans = scans;
+    config.pause_s = pause_s;
+    config.plan = [&](const arm::Joints& from) {
+      return plan_raster(spec, workcell, calibration.arm_model(), calibration.sensor, from);
     };
-    auto act = [&](const SequencerActions& a) {
-      if (seq->range_losses() != last_range_losses) {
-        last_range_losses = seq->range_losses();
-        spdlog::warn(
-            "scan {}: the range process has lost stripes it had ranged (restarted?): "
-            "they will be taken again",
-            scan_id);
-      }
-      if (seq->retaken() != last_retaken) {
-        spdlog::warn("scan {}: going back for {} stripes without points", scan_id,
-                     seq->retaken() - last_retaken);
-        last_retaken = seq->retaken();
-      }
-      if (a.goal) {
-        if (a.goal->stripe == last_goal_stripe)
-          spdlog::warn("stripe {}: its goal sent again as goal {}", a.goal->stripe,
-                       a.goal->goal_id);
-        last_goal_stripe = a.goal->stripe;
-        arm_goal_t g = goal_message_of(*a.goal, speed_mm_s);
-        g.utime = wall_us();
-        bus.publish(ephor::channels::kArmGoal, g);
-      }
-      if (a.capture) {
-        stripe_capture_t c = capture_message_of(*a.capture, scan_id);
-        c.utime = wall_us();
-        bus.publish(stripe::channels::kCapture, c);
-      }
-      if (a.changed) publish_scan(now_s());
-    };
-    auto finish_scan = [&](double t) {
-      const double per_stripe_us =
-          cpu.extract_n > 0 && cpu.range_n > 0
-              ? cpu.extract_cpu_us / cpu.extract_n + cpu.range_cpu_us / cpu.range_n
-              : 0.0;
-      summary = {
-          {"system", "stripe"},
-          {"scan_id", scan_id},
-          {"state", to_string(seq->state())},
-          {"reason", seq->reason()},
-          {"robot_seed", robot_seed},
-          {"calibration", calibration_path.empty() ? "drawing" : calibration_path},
-          {"region_mm", {spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm}},
-          {"step_mm", spec.step_mm},
-          {"height_mm", spec.height_mm},
-          {"stripes_planned", seq->planned()},
-          {"stripes_captured", seq->captured()},
-          {"stripes_skipped", seq->skipped()},
-          {"stripes_retaken", seq->retaken()},
-          {"range_losses", seq->range_losses()},
-          {"stripes_missing_in_cloud", last_cloud.stripes_missing},
-          {"cloud_points", seq->cloud_points()},
-          {"cloud_path", last_cloud.path},
-          {"elapsed_s", seq->elapsed_s(t)},
-          {"motion_s", seq->motion_s()},
-          {"stripes_per_s_scanned", seq->stripes_per_s()},
-          {"paper_stripes_per_s", kPaperStripesPerS},
-          {"processing_cpu_us_per_stripe", per_stripe_us},
-          {"extract_cpu_us_per_stripe",
-           cpu.extract_n > 0 ? cpu.extract_cpu_us / cpu.extract_n : 0.0},
-          {"range_cpu_us_per_stripe", cpu.range_n > 0 ? cpu.range_cpu_us / cpu.range_n : 0.0}};
-      if (seq->state() == ScanState::kDone) {
-        spdlog::info(
-            "scan {} done: {} of {} stripes ({} skipped, {} taken again), {} points in {:.1f} s: "
-            "{:.2f} stripes/s "
-            "scanned with the arm moving (paper: 3-4), arm moving {:.1f} s, processing {:.0f} us "
-            "CPU a stripe",
-            scan_id, seq->captured(), seq->planned(), seq->skipped(), seq->retaken(),
-            seq->cloud_points(), seq->elapsed_s(t), seq->stripes_per_s(), seq->motion_s(),
-            per_stripe_us);
-      } else {
-        spdlog::error("scan {} failed: {}", scan_id, seq->reason());
-      }
-      if (!summary_path.empty()) {
-        std::ofstream out(summary_path);
-        out << summary.dump(2) << "\n";
-        if (!out) spdlog::error("could not write the summary to {}", summary_path);
-      }
-    };
-    auto new_scan = [&](double t) -> bool {
-      // Planned again from where the arm is (the same plan from the start
-      // configuration; after a scan, from its last stripe).
-      try {
-        plan = plan_raster(spec, workcell, calibration.arm_model(), calibration.sensor, *arm_q);
-      } catch (const PlanError& e) {
-        spdlog::error("{}", e.what());
-        return false;
-      }
-      scan_id = wall_us();
-      seq.emplace(plan.goals, next_goal, next_request);
-      last_goal_stripe = -1;
-      last_retaken = last_range_losses = 0;
-      cpu = ScanCpu{};
-      last_cloud = CloudEvent{};
-      spdlog::info(
-          "scan {}: {} stripes {:g} mm apart over ({:g}, {:g}) - ({:g}, {:g}) mm, {:g} mm "
-          "up; {}",
-          scan_id, plan.goals.size(), spec.step_mm, spec.x0_mm, spec.y0_mm, spec.x1_mm, spec.y1_mm,
-          spec.height_mm, calibration.measured);
-      act(seq->start(t));
-      publish_scan(t);
-      return true;
-    };
+    config.wall_us = [] { return wall_us(); };
+    config.robot_seed = robot_seed;
+    config.calibration_name = calibration_path.empty() ? "drawing" : calibration_path;
+    config.calibration_measured = calibration.measured;
+    config.summary_path = summary_path;
+    // The scan in hand (task thread only).
+    PlanTask task(std::move(config), outputs, wall_us());
 
     auto job = [&] {
-      const double t = now_s();
-      std::deque<PlanEvent> batch;
+      std::vector<PlanEvent> batch;
       std::optional<arm::Joints> q;
       bool moving = false;
       {
@@ -322,47 +222,8 @@ int main(int argc, char** argv) {
         q = arm_q;
         moving = arm_moving;
       }
-      if (finished) return;
-      if (!seq) {
-        if (!q) return;  // no arm state yet (comm holds goals until it has one too)
-        if (!new_scan(t)) {
-          exit_code = 1;
-          finished = true;
-          return;
-        }
-      }
-      for (const PlanEvent& e : batch) {
-        if (const auto* d = std::get_if<DoneEvent>(&e);
-            d && d->status == motion_done_t::STATUS_REJECTED)
-          spdlog::warn("goal {} refused by the arm: {} (its stripe is skipped)", d->goal_id,
-                       d->reason);
-        apply_event(*seq, scan_id, e, t, cpu, &last_cloud, act);
-      }
-      if (moving) seq->on_arm_moving(t);
-      act(seq->tick(t));
-      if (t - last_status_s >= 1.0) publish_scan(t);
-      if (seq->finished() && pause_until_s == 0.0) {
-        finish_scan(t);
-        next_goal = seq->next_goal_id();
-        next_request = seq->next_request_id();
-        ++scans_done;
-        if (seq->state() == ScanState::kFailed) {
-          exit_code = 1;
-          finished = true;
-        } else if (scans > 0 && scans_done >= scans) {
-          finished = true;
-        } else {
-          pause_until_s = t + pause_s;
-        }
-      }
-      if (pause_until_s > 0.0 && t >= pause_until_s && q) {
-        pause_until_s = 0.0;
-        arm_q = q;
-        if (!new_scan(t)) {
-          exit_code = 1;
-          finished = true;
-        }
-      }
+      task.run(now_s(), batch, q, moving);
+      if (task.finished()) finished = true;
     };
     runtime.add_triggered("plan", std::chrono::milliseconds(50), job);
     runtime.add_periodic("tick", std::chrono::milliseconds(100), [&] { runtime.trigger("plan"); });
@@ -378,7 +239,7 @@ int main(int argc, char** argv) {
       if (wait_for_shutdown_signal(0.05) != 0) break;
     }
     runtime.stop();
-    return exit_code;
+    return task.exit_code();
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

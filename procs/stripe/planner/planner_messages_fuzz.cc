@@ -4,10 +4,10 @@
 // the bus does (a message that does not decode to its full size is
 // dropped), taken by its handler (arm_joints_of(): non-finite joints
 // ignored; event_of(): an image only when the requester is "planner"), and
-// the plan task run after each at the message's time as main.cc runs it: a
-// scan planned from where the arm is (plan_raster() with the process's
-// defaults, deploy/stripe/workcell.pbtxt and the drawing's calibration), each
-// event through apply_event() into the ScanSequencer, its tick, the scan's
+// the plan task (PlanTask, the process's own) run after each at the
+// message's time: a scan planned from where the arm is (plan_raster() with
+// the process's defaults, deploy/stripe/workcell.pbtxt and the drawing's
+// calibration), each event through apply_event() into the ScanSequencer, its tick, the scan's
 // end, the pause and the next scan; every answer as goal_message_of(),
 // capture_message_of() and scan_message_of() publish it.
 // A goal must be finite, within the PUMA's joint limits and the planned
@@ -35,6 +35,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "common/arm/arm_workcell.h"
@@ -42,6 +43,7 @@
 #include "common/fuzz/fuzz_input.h"
 #include "common/geometry/workcell_file.h"
 #include "common/stripe/calibration_file.h"
+#include "procs/stripe/planner/plan_task.h"
 #include "procs/stripe/planner/planner_messages.h"
 #include "procs/stripe/planner/raster_plan.h"
 #include "procs/stripe/planner/scan_sequencer.h"
@@ -71,22 +73,26 @@ const Setup& setup() {
 }
 
 // plan_raster() is pure and takes milliseconds: the plans met so far, by
-// region and start joints (bit for bit).
-std::optional<RasterPlan> plan_from(const RasterSpec& spec, bool small, const arm::Joints& q) {
-  static std::map<std::vector<double>, std::optional<RasterPlan>> cache;
+// region and start joints (bit for bit), or the reason one could not be made
+// (thrown again as the PlanError plan_raster() threw; main.cc: logged, exit 1).
+RasterPlan plan_from(const RasterSpec& spec, bool small, const arm::Joints& q) {
+  static std::map<std::vector<double>, std::variant<RasterPlan, std::string>> cache;
   std::vector<double> key(q.data(), q.data() + 6);
   key.push_back(small ? 1.0 : 0.0);
-  if (const auto it = cache.find(key); it != cache.end()) return it->second;
-  std::optional<RasterPlan> plan;
-  try {
-    plan = plan_raster(spec, setup().workcell, setup().calibration.arm_model(),
-                       setup().calibration.sensor, q);
-  } catch (const PlanError&) {
-    // main.cc: logged, exit 1.
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    if (cache.size() > 4096) cache.clear();
+    std::variant<RasterPlan, std::string> made;
+    try {
+      made = plan_raster(spec, setup().workcell, setup().calibration.arm_model(),
+                         setup().calibration.sensor, q);
+    } catch (const PlanError& e) {
+      made = std::string(e.what());
+    }
+    it = cache.emplace(key, std::move(made)).first;
   }
-  if (cache.size() > 4096) cache.clear();
-  cache.emplace(key, plan);
-  return plan;
+  if (const auto* why = std::get_if<std::string>(&it->second)) throw PlanError(*why);
+  return std::get<RasterPlan>(it->second);
 }
 
 template <typename M>
@@ -96,140 +102,77 @@ void check_encodes(const M& m, const char* what) {
   if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
 }
 
-// The process's state (main.cc's plan task and handlers).
-struct Planner {
-  RasterSpec spec;
-  bool small = false;
-  int scans = 1;
-  double pause_s = 3.0, speed_mm_s = 0.0;
+// The plan task's answers, checked.
+class CheckedOutputs : public PlanOutputs {
+ public:
+  const PlanTask* task = nullptr;
 
-  std::optional<arm::Joints> arm_q;
-  bool arm_moving = false;
-  std::vector<PlanEvent> events;
-  bool finished = false;
-  std::optional<ScanSequencer> seq;
-  RasterPlan plan;
-  int64_t scan_id = 0, next_goal = kStartWallUs, next_request = kStartWallUs;
-  int scans_done = 0;
-  double last_status_s = 0.0, pause_until_s = 0.0;
-  ScanCpu cpu;
-  CloudEvent last_cloud{};
-  // For the checks: every goal id sent, the request ids asked.
-  std::set<int64_t> goal_ids;
-  int64_t last_request = 0;
+  void goal(const GoalAction& g, arm_goal_t m) override {
+    const RasterPlan& plan = task->plan();
+    if (g.stripe < 0 || g.stripe >= static_cast<int>(plan.goals.size()))
+      fuzz::fail("a goal for a stripe not planned");
+    if (!g.q.allFinite()) fuzz::fail("a goal that is not finite");
+    if (!setup().limits.within(g.q)) fuzz::fail("a goal outside the joint limits");
+    if (g.q != plan.goals[static_cast<size_t>(g.stripe)])
+      fuzz::fail("a goal that is not its stripe's planned one");
+    if (!goal_ids_.insert(g.goal_id).second) fuzz::fail("a goal id sent twice");
+    if (m.kind != arm_goal_t::KIND_JOINTS || !(m.max_speed_mm_s >= 0.0f))
+      fuzz::fail("a goal message of the wrong kind or speed");
+    check_encodes(m, "ARM_GOAL");
+  }
 
-  void publish_scan(double t) {
-    stripe_scan_t m = scan_message_of(*seq, spec, scan_id, t);
-    m.utime = kStartWallUs;
-    if (m.stripes_planned != static_cast<int>(plan.goals.size()) || m.stripes_captured < 0 ||
-        m.stripes_captured > m.stripes_planned || m.stripes_skipped < 0 ||
+  void capture(const CaptureAction& c, stripe_capture_t m) override {
+    if (c.stripe < -1 || c.stripe >= static_cast<int>(task->plan().goals.size()))
+      fuzz::fail("a capture for a stripe not planned");
+    if (c.request_id < last_request_) fuzz::fail("a capture's request id went back");
+    last_request_ = c.request_id;
+    if ((c.stripe < 0) != (m.scan_id == 0)) fuzz::fail("a capture in the wrong scan");
+    check_encodes(m, "STRIPE_CAPTURE");
+  }
+
+  void scan(stripe_scan_t m) override {
+    if (m.stripes_planned != static_cast<int>(task->plan().goals.size()) ||
+        m.stripes_captured < 0 || m.stripes_captured > m.stripes_planned || m.stripes_skipped < 0 ||
         m.stripes_skipped > m.stripes_planned)
       fuzz::fail("STRIPE_SCAN's counts outside the plan");
     if (!std::isfinite(m.elapsed_s) || !std::isfinite(m.stripes_per_s) ||
         !(m.motion_s >= 0.0 && std::isfinite(m.motion_s)) || m.cloud_points < 0)
       fuzz::fail("STRIPE_SCAN's times or rates not finite");
     check_encodes(m, "STRIPE_SCAN");
-    last_status_s = t;
   }
 
-  void act(const SequencerActions& a, double t) {
-    if (a.goal) {
-      const GoalAction& g = *a.goal;
-      if (g.stripe < 0 || g.stripe >= static_cast<int>(plan.goals.size()))
-        fuzz::fail("a goal for a stripe not planned");
-      if (!g.q.allFinite()) fuzz::fail("a goal that is not finite");
-      if (!setup().limits.within(g.q)) fuzz::fail("a goal outside the joint limits");
-      if (g.q != plan.goals[static_cast<size_t>(g.stripe)])
-        fuzz::fail("a goal that is not its stripe's planned one");
-      if (!goal_ids.insert(g.goal_id).second) fuzz::fail("a goal id sent twice");
-      arm_goal_t m = goal_message_of(g, speed_mm_s);
-      m.utime = kStartWallUs;
-      if (m.kind != arm_goal_t::KIND_JOINTS || !(m.max_speed_mm_s >= 0.0f))
-        fuzz::fail("a goal message of the wrong kind or speed");
-      check_encodes(m, "ARM_GOAL");
-    }
-    if (a.capture) {
-      const CaptureAction& c = *a.capture;
-      if (c.stripe < -1 || c.stripe >= static_cast<int>(plan.goals.size()))
-        fuzz::fail("a capture for a stripe not planned");
-      if (c.request_id < last_request) fuzz::fail("a capture's request id went back");
-      last_request = c.request_id;
-      stripe_capture_t m = capture_message_of(c, scan_id);
-      m.utime = kStartWallUs;
-      if ((c.stripe < 0) != (m.scan_id == 0)) fuzz::fail("a capture in the wrong scan");
-      check_encodes(m, "STRIPE_CAPTURE");
-    }
-    if (a.changed) publish_scan(t);
-  }
-
-  bool new_scan(double t) {
-    const std::optional<RasterPlan> p = plan_from(spec, small, *arm_q);
-    if (!p) return false;
-    plan = *p;
-    scan_id = kStartWallUs + static_cast<int64_t>(t * 1e6);
-    seq.emplace(plan.goals, next_goal, next_request);
-    cpu = ScanCpu{};
-    last_cloud = CloudEvent{};
-    act(seq->start(t), t);
-    publish_scan(t);
-    return true;
-  }
-
-  void job(double t) {
-    std::vector<PlanEvent> batch;
-    batch.swap(events);
-    const std::optional<arm::Joints> q = arm_q;
-    const bool moving = arm_moving;
-    if (finished) return;
-    if (!seq) {
-      if (!q) return;
-      if (!new_scan(t)) {
-        finished = true;
-        return;
-      }
-    }
-    for (const PlanEvent& e : batch)
-      apply_event(*seq, scan_id, e, t, cpu, &last_cloud,
-                  [&](const SequencerActions& a) { act(a, t); });
-    if (moving) seq->on_arm_moving(t);
-    act(seq->tick(t), t);
-    if (t - last_status_s >= 1.0) publish_scan(t);
-    if (seq->finished() && pause_until_s == 0.0) {
-      next_goal = seq->next_goal_id();
-      next_request = seq->next_request_id();
-      ++scans_done;
-      if (seq->state() == ScanState::kFailed) {
-        if (seq->reason().empty()) fuzz::fail("a scan failed without a reason");
-        finished = true;
-      } else if (scans > 0 && scans_done >= scans) {
-        finished = true;
-      } else {
-        pause_until_s = t + pause_s;
-      }
-    }
-    if (pause_until_s > 0.0 && t >= pause_until_s && q) {
-      pause_until_s = 0.0;
-      arm_q = q;
-      if (!new_scan(t)) finished = true;
-    }
-  }
+ private:
+  std::set<int64_t> goal_ids_;
+  int64_t last_request_ = 0;
 };
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  Planner p;
-  // main.cc's defaults.
-  parse_region("-200,-200,200,200", p.spec);
-  p.spec.pass_length_mm = 60.0;
-  p.small = (data[0] & 1) != 0;
-  if (p.small) parse_region("-20,-20,20,20", p.spec);
-  if ((data[0] & 2) != 0) p.scans = 0;
-  if ((data[0] & 4) != 0) p.speed_mm_s = 100.0;
   int64_t now_ms = 1'000'000;  // the process's monotonic clock
+  // main.cc's defaults.
+  PlanTaskConfig config;
+  parse_region("-200,-200,200,200", config.spec);
+  config.spec.pass_length_mm = 60.0;
+  const bool small = (data[0] & 1) != 0;
+  if (small) parse_region("-20,-20,20,20", config.spec);
+  if ((data[0] & 2) != 0) config.scans = 0;
+  if ((data[0] & 4) != 0) config.speed_mm_s = 100.0;
+  config.plan = [spec = config.spec, small](const arm::Joints& from) {
+    return plan_from(spec, small, from);
+  };
+  config.wall_us = [&now_ms] { return kStartWallUs + now_ms * 1000; };
+  config.calibration_name = "drawing";
+  CheckedOutputs outputs;
+  PlanTask task(std::move(config), outputs, kStartWallUs);
+  outputs.task = &task;
+  // What the handlers keep between runs of the task.
+  std::optional<arm::Joints> arm_q;
+  bool arm_moving = false;
+  std::vector<PlanEvent> events;
   size_t at = 1;
-  for (int k = 0; k < 256 && at + 5 <= size && !p.finished; ++k) {
+  for (int k = 0; k < 256 && at + 5 <= size && !task.finished(); ++k) {
     const int channel = data[at] % 7;
     now_ms += data[at + 1] | (data[at + 2] << 8);
     const size_t len = data[at + 3] | (static_cast<size_t>(data[at + 4]) << 8);
@@ -246,8 +189,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (decoded) {
           if (const auto q = arm_joints_of(m)) {
             if (!q->allFinite()) fuzz::fail("non-finite joints taken");
-            p.arm_q = *q;
-            p.arm_moving = m.moving;
+            arm_q = *q;
+            arm_moving = m.moving;
           }
         }
         break;
@@ -255,39 +198,44 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       case 1: {
         motion_done_t m;
         decoded = m.decode(bytes, 0, n) == n;
-        if (decoded) p.events.push_back(event_of(m));
+        if (decoded) events.push_back(event_of(m));
         break;
       }
       case 2: {
         stripe_image_t m;
         decoded = m.decode(bytes, 0, n) == n;
         if (decoded)
-          if (auto e = event_of(m, "planner")) p.events.push_back(std::move(*e));
+          if (auto e = event_of(m, "planner")) events.push_back(std::move(*e));
         break;
       }
       case 3: {
         stripe_points_t m;
         decoded = m.decode(bytes, 0, n) == n;
-        if (decoded) p.events.push_back(event_of(m));
+        if (decoded) events.push_back(event_of(m));
         break;
       }
       case 4: {
         stripe_profile_t m;
         decoded = m.decode(bytes, 0, n) == n;
-        if (decoded) p.events.push_back(event_of(m));
+        if (decoded) events.push_back(event_of(m));
         break;
       }
       case 5: {
         stripe_cloud_t m;
         decoded = m.decode(bytes, 0, n) == n;
-        if (decoded) p.events.push_back(event_of(m));
+        if (decoded) events.push_back(event_of(m));
         break;
       }
       default:
         break;  // the tick
     }
     if (!decoded) continue;  // the bus counts a decode error
-    p.job(static_cast<double>(now_ms) * 1e-3);
+    std::vector<PlanEvent> batch;
+    batch.swap(events);
+    task.run(static_cast<double>(now_ms) * 1e-3, batch, arm_q, arm_moving);
+    if (task.finished() && task.exit_code() != 0 && task.sequencer() != nullptr &&
+        task.sequencer()->state() == ScanState::kFailed && task.sequencer()->reason().empty())
+      fuzz::fail("a scan failed without a reason");
   }
   return 0;
 }
