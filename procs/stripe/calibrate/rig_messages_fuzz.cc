@@ -26,9 +26,9 @@
 // next step. Seeds: fuzz_corpus/stripe_calibrate (two views answered, a
 // stripe and a spot image; a view refused, one failed, an image for another
 // requester and a stale one; a capture asked again, a bad image).
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -121,7 +121,7 @@ class Rig {
       capture();
       return;
     }
-    arm::Joints q = arm::Joints::Constant(NAN);
+    arm::Joints q = arm::Joints::Constant(std::numeric_limits<double>::quiet_NaN());
     try {
       const cv::Mat img = inbox_.view_image(&q);
       const stripe_image_t& m = *inbox_.image();
