@@ -1,5 +1,6 @@
 #include "common/sphere/range_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -42,7 +43,11 @@ std::vector<ScanLine> RangeSimulator::scan(double t_begin_s, double duration_s,
   const auto k1 = static_cast<int64_t>(std::ceil((t_begin_s + duration_s) * rate - 1e-9));
   for (int64_t k = k0; k < k1; ++k) {
     const double t = static_cast<double>(k) / rate;
-    const ScanDirection dir = scanner_.direction_at(t - t_begin_s);
+    // The first pulse can fall a rounding error before t_begin_s (a window
+    // start 3 * 0.1 s is 0.30000000000000004, its pulse 0.3): it is the
+    // raster's first, not one of a line before it (whose id the previous
+    // window's last line has).
+    const ScanDirection dir = scanner_.direction_at(std::max(0.0, t - t_begin_s));
     const int64_t id = first_line_id + dir.line;
     if (lines.empty() || lines.back().id != id) lines.push_back(ScanLine{id, {}});
     const Eigen::Vector3d ray = ray_direction(dir.azimuth_rad, dir.elevation_rad);

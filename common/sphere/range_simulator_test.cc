@@ -81,5 +81,28 @@ TEST(RangeSimulatorTest, NoiseHasTheConfiguredSigmaAndIsSeeded) {
   EXPECT_NEAR(std::sqrt(sum2 / n), 0.02, 0.002);
 }
 
+// Found by the fuzz target sphere_ranger (--window-s 0.1): the window
+// starting at 3 * 0.1 = 0.30000000000000004 s had its first pulse at 0.3 s,
+// a rounding error before it, scanned as line -1: the ranger published the
+// previous window's last line id again.
+TEST(RangeSimulatorTest, AWindowStartingARoundingErrorLateStartsAtItsFirstLine) {
+  RangeSimulatorConfig c;
+  c.scanner.half_extent_deg = 2.0;
+  c.sphere = SphereTrajectory::paper_trial(10.0, 0.35);
+  c.noise.range_sigma_m = 0.0;
+  c.noise.angle_sigma_rad = 0.0;
+  RangeSimulator sim(c);
+  const double t0 = 3 * 0.1;
+  ASSERT_GT(t0, 0.3);  // the rounding this is about
+  const std::vector<ScanLine> lines = sim.scan(t0, 0.1, 100);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines.front().id, 100);
+  for (size_t i = 1; i < lines.size(); ++i) EXPECT_GT(lines[i].id, lines[i - 1].id);
+  // The first pulse is the raster's upper left.
+  const Pulse& p = lines.front().pulses.front();
+  EXPECT_NEAR(p.azimuth_rad, -2.0 * M_PI / 180.0, 1e-9);
+  EXPECT_NEAR(p.elevation_rad, 2.0 * M_PI / 180.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace ephor::sphere

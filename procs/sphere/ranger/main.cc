@@ -21,13 +21,14 @@
 //               SPHERE_TRUTH (sphere_truth_t), 20 Hz and at each verdict
 //   tasks       scan (periodic 5 ms), truth (periodic 50 ms)
 //
+// The handler and the tasks' work are RangerProcess (ranger_messages.h; the
+// fuzz target sphere_ranger runs them); this file is the wiring.
+//
 // Time: the scan clock t_s is seconds since start-up (CLOCK_MONOTONIC); a
 // message's utime is the wall clock at start plus t_s.
 
-#include <atomic>
 #include <cmath>
 #include <fstream>
-#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -47,41 +48,12 @@
 #include "ephor/sphere_guidance_t.hpp"
 #include "ephor/sphere_scan_line_t.hpp"
 #include "ephor/sphere_truth_t.hpp"
+#include "procs/sphere/ranger/ranger_messages.h"
 
 namespace {
 
 using namespace ephor;
 using namespace ephor::sphere;
-
-sphere_scan_line_t to_message(const RangerLine& l, double window_s, int64_t utime) {
-  sphere_scan_line_t m{};
-  m.utime = utime;
-  m.line = l.line.id;
-  m.window = l.window;
-  m.window_s = window_s;
-  m.last_in_window = l.last_in_window;
-  m.half_extent_deg = static_cast<float>(l.half_extent_deg);
-  m.num_pulses = static_cast<int32_t>(l.line.pulses.size());
-  for (const Pulse& p : l.line.pulses) {
-    m.t_s.push_back(p.t_s);
-    m.azimuth_rad.push_back(p.azimuth_rad);
-    m.elevation_rad.push_back(p.elevation_rad);
-    m.range_m.push_back(p.range_m);
-  }
-  return m;
-}
-
-void fill_truth(sphere_truth_t& m, const RangerTruth& t) {
-  m.t_s = t.t_s;
-  m.approach = t.approach;
-  for (int i = 0; i < 3; ++i) {
-    m.position_m[i] = t.position_m[i];
-    m.velocity_m_s[i] = t.velocity_m_s[i];
-    m.chaser_velocity_m_s[i] = t.chaser_velocity_m_s[i];
-    m.target_velocity_m_s[i] = t.target_velocity_m_s[i];
-  }
-  m.half_extent_deg = static_cast<float>(t.half_extent_deg);
-}
 
 bool parse_vector(const std::vector<double>& v, Eigen::Vector3d& out) {
   if (v.size() != 3) return false;
@@ -180,84 +152,23 @@ int main(int argc, char** argv) {
     const double window_s = config.motion.window_s;
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
-    std::mutex mutex;
-    std::atomic<int64_t> lines_published{0}, commands{0}, commands_refused{0};
-    std::atomic<bool> finished{false};
-    size_t verdicts_published = 0;
-
-    bus.subscribe<sphere_guidance_t>(channels::kGuidance, [&](const sphere_guidance_t& m) {
-      const Eigen::Vector3d v(m.chaser_velocity_m_s[0], m.chaser_velocity_m_s[1],
-                              m.chaser_velocity_m_s[2]);
-      bool ok;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        ok = world.command(m.apply_t_s, v);
-      }
-      if (!ok) {
-        const int64_t n = ++commands_refused;
-        if (n <= 10 || n % 100 == 0) {
-          spdlog::warn("SPHERE_GUIDANCE from {} ignored: non-finite time or velocity ({} so far)",
-                       m.header.sender, n);
-        }
-        return;
-      }
-      ++commands;
-    });
-
     const int64_t wall0_us = wall_us();
     const int64_t mono0_ns = mono_ns();
+    RangerProcess ranger(world, wall0_us);
     auto now_s = [&] { return static_cast<double>(mono_ns() - mono0_ns) * 1e-9; };
-    auto utime_of = [&](double t_s) { return wall0_us + std::llround(t_s * 1e6); };
+
+    bus.subscribe<sphere_guidance_t>(
+        channels::kGuidance, [&ranger](const sphere_guidance_t& m) { ranger.on_guidance(m); });
 
     runtime.add_periodic("scan", std::chrono::milliseconds(5), [&] {
-      std::vector<RangerLine> lines;
-      std::vector<sphere_truth_t> verdicts;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        lines = world.advance_to(now_s());
-        while (verdicts_published < world.verdicts().size()) {
-          const CaptureVerdict& v = world.verdicts()[verdicts_published];
-          sphere_truth_t m{};
-          // The state at the verdict's moment (the window it fell in is the
-          // current one unless the next sphere has already come).
-          RangerTruth t = world.truth_at(v.t_s);
-          t.position_m = v.position_m;
-          t.velocity_m_s = v.velocity_m_s;
-          t.approach = static_cast<int>(verdicts_published);
-          fill_truth(m, t);
-          m.utime = utime_of(v.t_s);
-          m.phase = v.captured ? sphere_truth_t::PHASE_CAPTURED : sphere_truth_t::PHASE_MISSED;
-          m.capture_t_s = v.t_s;
-          m.capture_speed_m_s = v.speed_m_s;
-          m.capture_offset_m = v.offset_m;
-          m.verdict = v.text;
-          spdlog::info("approach {}: {}", verdicts_published, v.text);
-          verdicts.push_back(m);
-          ++verdicts_published;
-        }
-        if (world.finished()) finished = true;
-      }
-      for (const RangerLine& l : lines) {
-        sphere_scan_line_t m = to_message(l, window_s, utime_of(l.ready_t_s));
-        bus.publish(channels::kScanLine, m);
-        ++lines_published;
-      }
-      for (sphere_truth_t& m : verdicts) bus.publish(channels::kTruth, m);
+      RangerProcess::Scan out = ranger.scan(now_s());
+      for (sphere_scan_line_t& m : out.lines) bus.publish(channels::kScanLine, m);
+      for (sphere_truth_t& m : out.verdicts) bus.publish(channels::kTruth, m);
     });
 
     runtime.add_periodic("truth", std::chrono::milliseconds(50), [&] {
-      sphere_truth_t m{};
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (world.finished()) return;
-        const double t = now_s();
-        if (static_cast<double>(world.windows_started()) * window_s <= t) return;  // scan lags
-        fill_truth(m, world.truth_at(t));
-        m.utime = utime_of(t);
-      }
-      m.phase = sphere_truth_t::PHASE_APPROACH;
-      m.capture_t_s = std::numeric_limits<double>::quiet_NaN();
-      bus.publish(channels::kTruth, m);
+      if (std::optional<sphere_truth_t> m = ranger.truth(now_s()))
+        bus.publish(channels::kTruth, *m);
     });
 
     runtime.start();
@@ -270,11 +181,11 @@ int main(int argc, char** argv) {
         background ? ", far background" : "");
     const int64_t t_end =
         duration_s > 0 ? mono_ns() + static_cast<int64_t>(duration_s * 1e9) : INT64_MAX;
-    while (!finished && mono_ns() < t_end) {
+    while (!ranger.finished() && mono_ns() < t_end) {
       if (wait_for_shutdown_signal(0.05) != 0) break;
     }
     runtime.stop();
-    std::lock_guard<std::mutex> lock(mutex);
+    std::lock_guard<std::mutex> lock(ranger.mutex());
     int captured = 0;
     for (const CaptureVerdict& v : world.verdicts()) captured += v.captured ? 1 : 0;
     std::string last = world.verdicts().empty() ? "no verdict (stopped before the capture distance)"
@@ -282,8 +193,8 @@ int main(int argc, char** argv) {
     spdlog::info(
         "summary: {} of {} approaches captured; last: {}; {} windows, {} lines, {} guidance "
         "commands, {} refused",
-        captured, world.verdicts().size(), last, world.windows_started(), lines_published.load(),
-        commands.load(), commands_refused.load());
+        captured, world.verdicts().size(), last, world.windows_started(), ranger.lines_published(),
+        ranger.commands(), ranger.commands_refused());
     if (!summary_path.empty()) {
       nlohmann::json runs = nlohmann::json::array();
       for (const CaptureVerdict& v : world.verdicts()) {
@@ -299,9 +210,9 @@ int main(int argc, char** argv) {
                                 {"captured", captured},
                                 {"approaches", runs},
                                 {"windows", world.windows_started()},
-                                {"lines", lines_published.load()},
-                                {"guidance_commands", commands.load()},
-                                {"commands_refused", commands_refused.load()}};
+                                {"lines", ranger.lines_published()},
+                                {"guidance_commands", ranger.commands()},
+                                {"commands_refused", ranger.commands_refused()}};
       std::ofstream out(summary_path);
       out << j.dump(2) << "\n";
       if (!out) spdlog::error("cannot write the summary to {}", summary_path);
