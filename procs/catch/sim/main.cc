@@ -67,104 +67,10 @@
 #include "ephor/catch_truth_t.hpp"
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
-
-namespace {
+#include "procs/catch/sim/sim_messages.h"
 
 using namespace ephor;
 using namespace ephor::catching;
-
-constexpr double kStepS = 0.001;
-constexpr double kMaxLagS = 0.5;
-
-// The state behind one frame as catch_truth_t (caller holds the mutex).
-catch_truth_t to_truth(const CatchScenario& scenario, const BoardWorld& world,
-                       const BallSequence& balls, const CatchCell& cell, const arm::Joints& q) {
-  catch_truth_t m{};
-  const BallState s = world.state();
-  switch (balls.phase()) {
-    case BallSequence::Phase::kWaiting:
-      m.phase = catch_truth_t::PHASE_WAITING;
-      break;
-    case BallSequence::Phase::kRolling:
-      m.phase = catch_truth_t::PHASE_ROLLING;
-      break;
-    case BallSequence::Phase::kFlying:
-      m.phase = catch_truth_t::PHASE_FLYING;
-      break;
-    case BallSequence::Phase::kDone:
-      m.phase = catch_truth_t::PHASE_DONE;
-      break;
-  }
-  m.ball = balls.ball();
-  const Eigen::Vector3d w = scenario.board_to_world() * s.position_b_mm;
-  for (int k = 0; k < 3; ++k) {
-    m.ball_b_mm[k] = s.position_b_mm[k];
-    m.ball_w_mm[k] = w[k];
-  }
-  m.ball_velocity_b_mm_s[0] = s.velocity_b_mm_s.x();
-  m.ball_velocity_b_mm_s[1] = s.velocity_b_mm_s.y();
-  m.ball_px[0] = m.ball_px[1] = std::nan("");
-  if (const auto& e = balls.expected_exit()) m.exit_x_b_mm = e->x_b_mm;
-  const Eigen::Vector3d cup = cell.cup_w_mm(q);
-  for (int k = 0; k < 3; ++k) m.cup_w_mm[k] = cup[k];
-  m.incline_deg = scenario.placement.incline_rad * 180.0 / M_PI;
-  const Eigen::Matrix3d r = scenario.board_to_camera.linear();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m.board_to_camera_r[3 * i + j] = r(i, j);
-    m.board_to_camera_t_mm[i] = scenario.board_to_camera.translation()[i];
-  }
-  m.balls_done = balls.done();
-  m.caught = balls.caught();
-  m.oracle_reachable = balls.oracle_reachable();
-  m.last_ball = -1;
-  if (const auto& last = balls.last()) {
-    m.last_ball = last->ball;
-    m.last_caught = last->caught;
-    m.last_oracle_reachable = last->oracle_reachable;
-    m.last_reason = last->reason;
-  }
-  return m;
-}
-
-struct SimProcess {
-  std::mutex mutex;
-  CatchScenario scenario;
-  geometry::Workcell cell;
-  CatchCell catch_cell;
-  BoardWorld world;
-  sim::ArmServo servo;
-  std::optional<sim::JointTrajectory> pending;
-  BallSequence balls;
-  double clock_s = 0.0;
-  int64_t wall0_us = 0, mono0_ns = 0;
-  int servo_ticks = 0;
-  std::atomic<int64_t> frames{0}, trajectories_refused{0}, physics_skips{0};
-
-  SimProcess(CatchScenario s, const geometry::Workcell& c, int ball_count, double gap_s,
-             double first_release_s)
-      : scenario(std::move(s)),
-        cell(c),
-        catch_cell(scenario, cell),
-        world(scenario),
-        servo(catch_cell.puma().limits(), catch_cell.park_joints()),
-        balls(scenario, ball_count, gap_s, first_release_s) {}
-  int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
-
-  // One 1 ms step of board, ball sequence and servo (caller holds mutex).
-  void step() {
-    if (pending) {
-      servo.follow(*pending);
-      pending.reset();
-    }
-    servo.step(kStepS);
-    world.step(kStepS);
-    clock_s += kStepS;
-    balls.step(world, catch_cell, servo.state().q, world.time_s(),
-               servo.state().qd.cwiseAbs().maxCoeff() < 0.01);
-  }
-};
-
-}  // namespace
 
 int main(int argc, char** argv) {
   block_shutdown_signals();
@@ -198,7 +104,7 @@ int main(int argc, char** argv) {
   try {
     const BoardSpec board = load_board_file(resolve_repo_path(board_path));
     const geometry::Workcell cell = geometry::load_workcell_file(resolve_repo_path(workcell_path));
-    SimProcess p(CatchScenario::draw(seed, board), cell, balls, gap_s, first_release_s);
+    CatchSimProcess p(CatchScenario::draw(seed, board), cell, balls, gap_s, first_release_s);
     BoardRenderer renderer(p.scenario, CupSpec{}, seed);
     cv::Mat image;
 
@@ -217,30 +123,13 @@ int main(int argc, char** argv) {
     Bus bus(args.lcm_url, args.name);
     TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
 
-    bus.subscribe<joint_trajectory_t>(
-        ephor::channels::kArmTrajectory, [&p](const joint_trajectory_t& m) {
-          std::string why;
-          auto t = sim::to_trajectory(m, why);
-          if (!t) {
-            ++p.trajectories_refused;
-            spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
-                         p.trajectories_refused.load());
-            return;
-          }
-          std::lock_guard<std::mutex> lock(p.mutex);
-          p.pending = std::move(*t);
-        });
+    bus.subscribe<joint_trajectory_t>(ephor::channels::kArmTrajectory,
+                                      [&p](const joint_trajectory_t& m) { p.on_trajectory(m); });
 
     p.wall0_us = wall_us();
     p.mono0_ns = mono_ns();
     auto advance_to_now = [&p] {
-      const double now_s = static_cast<double>(mono_ns() - p.mono0_ns) * 1e-9;
-      if (now_s - p.clock_s > kMaxLagS) {
-        ++p.physics_skips;
-        spdlog::warn("physics {:.3f} s behind the clock; skipping ahead", now_s - p.clock_s);
-        p.clock_s = now_s - kStepS;
-      }
-      while (p.clock_s + kStepS <= now_s) p.step();
+      p.advance_to(static_cast<double>(mono_ns() - p.mono0_ns) * 1e-9);
     };
 
     runtime.add_periodic("physics", std::chrono::milliseconds(2), [&] {
@@ -249,7 +138,7 @@ int main(int argc, char** argv) {
         std::lock_guard<std::mutex> lock(p.mutex);
         advance_to_now();
         if (++p.servo_ticks % 2 != 0) return;  // ARM_SERVO at 250 Hz
-        m = sim::to_joint_state(p.servo.state(), p.utime_of(p.clock_s));
+        m = p.servo_message();
       }
       bus.publish(ephor::channels::kArmServo, m);
     });
@@ -288,9 +177,7 @@ int main(int argc, char** argv) {
         const BallState s = p.world.state();
         if (s.on_board) ball = s.position_b_mm;
         arm = p.catch_cell.arm_view(p.servo.state().q);
-        truth = to_truth(p.scenario, p.world, p.balls, p.catch_cell, p.servo.state().q);
-        if (const auto& e = p.balls.expected_exit()) truth.exit_utime = p.utime_of(e->time_s);
-        truth.utime = p.utime_of(p.clock_s);
+        truth = p.truth();
         if (p.balls.finished_for_s(p.world.time_s()) > 1.0) finished = true;
         if (const auto& last = p.balls.last(); last && last->ball != logged_ball) {
           logged_ball = last->ball;

@@ -21,20 +21,20 @@
 // frames of another size than the camera file's), 1 when the board's pose is
 // not found anywhere in the video.
 
-#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "common/catch/board_file.h"
 #include "common/catch/camera_file.h"
 #include "common/config/text_proto.h"
 #include "procs/catch/track/offline_ball_tracker.h"
+#include "procs/catch/track/video_input.h"
 
 namespace {
 
@@ -42,51 +42,10 @@ using namespace ephor::catching;
 
 constexpr const char* kName = "ephor-catch-track";
 
-// Bad input: exit status 2.
+// Bad input: exit status 2 (as VideoInputError, a bad video).
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-cv::VideoCapture open_video(const std::string& path) {
-  // A printf pattern is an image sequence; anything else a video file.
-  // Checked first: OpenCV's backends print several lines of warnings for a
-  // missing file instead of one error.
-  namespace fs = std::filesystem;
-  const bool pattern = path.find('%') != std::string::npos;
-  if (!pattern && !fs::exists(path)) throw InputError("video file '" + path + "': no such file");
-  if (!pattern && fs::is_directory(path))
-    throw InputError("video file '" + path + "': is a folder, not a file");
-  const fs::path dir = fs::path(path).parent_path();
-  if (pattern && !dir.empty() && !fs::is_directory(dir))
-    throw InputError("image sequence '" + path + "': no folder '" + dir.string() + "'");
-  cv::VideoCapture capture;
-  if (pattern)
-    capture.open(path, cv::CAP_IMAGES);
-  else
-    capture.open(path);
-  if (!capture.isOpened())
-    throw InputError("cannot open '" + path +
-                     "' as a video or an image sequence (a pattern such as 'frames/%04d.png')");
-  return capture;
-}
-
-// The next frame as 8-bit grey of the camera's size, or an empty Mat at the end.
-cv::Mat next_frame(cv::VideoCapture& capture, int index, const std::string& video_path,
-                   const CameraIntrinsics& camera, const std::string& camera_path) {
-  cv::Mat decoded;
-  if (!capture.read(decoded) || decoded.empty()) return {};
-  cv::Mat grey;
-  try {
-    grey = to_grey(decoded);
-  } catch (const std::invalid_argument& e) {
-    throw InputError("frame " + std::to_string(index) + " of " + video_path + ": " + e.what());
-  }
-  const std::string problem =
-      frame_size_problem(camera, camera_path, grey.cols, grey.rows,
-                         "the frames of " + video_path + " (frame " + std::to_string(index) + ")");
-  if (!problem.empty()) throw InputError(problem);
-  return grey;
-}
 
 nlohmann::json pose_line(const TrackerInitialisation& init, int first, int last) {
   const Pose& p = init.pose.board_to_camera;
@@ -174,26 +133,16 @@ int main(int argc, char** argv) {
 
     // Pass 1: the board's pose from batches of still frames.
     cv::VideoCapture capture = open_video(video_path);
-    TrackerInitialisation init;
-    std::string first_problem;
-    int index = 0, first = 0;
-    for (;;) {
-      std::vector<cv::Mat> batch;
-      first = index;
-      while (static_cast<int>(batch.size()) < init_frames) {
-        cv::Mat f = next_frame(capture, index, video_path, camera, camera_path);
-        if (f.empty()) break;
-        batch.push_back(f.clone());
-        ++index;
-      }
-      if (batch.empty()) break;
-      init = tracker.initialise(batch);
-      if (init.ok) break;
-      std::cerr << kName << ": frames " << first << "-" << index - 1
-                << ": board pose not found: " << init.problem << "\n";
-      if (first_problem.empty()) first_problem = init.problem;
-      if (static_cast<int>(batch.size()) < init_frames) break;  // the end of the video
-    }
+    const BoardPoseSearch search = search_board_pose(
+        tracker, init_frames,
+        [&](int i) { return next_frame(capture, i, video_path, camera, camera_path); },
+        [](int first, int last, const std::string& problem) {
+          std::cerr << kName << ": frames " << first << "-" << last
+                    << ": board pose not found: " << problem << "\n";
+        });
+    const TrackerInitialisation& init = search.init;
+    const int index = search.frames, first = search.first;
+    const std::string& first_problem = search.first_problem;
     if (index == 0) throw InputError("no frames in '" + video_path + "'");
     if (!init.ok) {
       std::cerr << kName << ": the board's pose was not found in any of the " << index
@@ -229,6 +178,9 @@ int main(int argc, char** argv) {
     std::cerr << kName << ": " << frames << " frames, the ball on the board in " << with_ball
               << "\n";
   } catch (const InputError& e) {
+    std::cerr << kName << ": " << e.what() << "\n";
+    return 2;
+  } catch (const VideoInputError& e) {
     std::cerr << kName << ": " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

@@ -33,71 +33,8 @@
 #include "common/log/log.h"
 #include "common/runtime/process_args.h"
 #include "common/runtime/task_runtime.h"
-#include "common/time/clock.h"
 #include "ephor/camera_frame_t.hpp"
-
-namespace {
-
-// One job: the next frame -> CAMERA. Runs on the camera task's thread.
-class CameraTask {
- public:
-  CameraTask(ephor::Bus& bus, ephor::camera::FrameSource& source,
-             ephor::camera::ChannelConverter& converter, bool loop, int64_t max_frames)
-      : bus_(bus), source_(source), converter_(converter), loop_(loop), max_frames_(max_frames) {}
-
-  void run_job() {
-    if (done_) return;
-    if (max_frames_ > 0 && msg_.frame_index >= max_frames_) return finish("--frames reached");
-    if (!source_.read(image_)) {
-      if (!loop_) return finish("end of the source");
-      try {
-        source_.rewind();
-      } catch (const std::exception& e) {
-        spdlog::error("{}", e.what());
-        failed_ = true;
-        return finish("cannot start the source again");
-      }
-      if (!source_.read(image_)) return finish("the source gave no frame after rewinding");
-    }
-    const int64_t capture_us = ephor::wall_us();
-    try {
-      converter_.convert(image_, msg_.data);
-    } catch (const std::exception& e) {
-      ++bad_frames_;
-      if (bad_frames_ <= 5) spdlog::warn("skipping frame: {}", e.what());
-      return;
-    }
-    msg_.utime = capture_us;
-    msg_.width = image_.cols;
-    msg_.height = image_.rows;
-    msg_.size = static_cast<int32_t>(msg_.data.size());
-    bus_.publish(ephor::channels::kCamera, msg_);
-    ++msg_.frame_index;
-  }
-
-  bool done() const { return done_; }
-  bool failed() const { return failed_; }
-  int64_t published() const { return msg_.frame_index; }
-
- private:
-  void finish(const char* why) {
-    spdlog::info("{} frames published; stopping: {}", msg_.frame_index, why);
-    done_ = true;
-  }
-
-  ephor::Bus& bus_;
-  ephor::camera::FrameSource& source_;
-  ephor::camera::ChannelConverter& converter_;
-  bool loop_;
-  int64_t max_frames_;
-  cv::Mat image_;
-  ephor::camera_frame_t msg_{};
-  int64_t bad_frames_ = 0;
-  std::atomic<bool> done_{false};
-  std::atomic<bool> failed_{false};
-};
-
-}  // namespace
+#include "procs/shared/camera/camera_task.h"
 
 int main(int argc, char** argv) {
   ephor::block_shutdown_signals();
@@ -136,7 +73,9 @@ int main(int argc, char** argv) {
 
     ephor::Bus bus(args.lcm_url, args.name);
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
-    CameraTask task(bus, source, converter, loop, max_frames);
+    ephor::camera::CameraTask task(
+        [&bus](ephor::camera_frame_t& m) { bus.publish(ephor::channels::kCamera, m); }, source,
+        converter, loop, max_frames);
     runtime.add_periodic("camera", std::chrono::nanoseconds(static_cast<int64_t>(1e9 / fps)),
                          [&task] { task.run_job(); });
     runtime.start();
