@@ -1,5 +1,6 @@
 #include "common/arm/arm_servo.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -164,6 +165,33 @@ TEST(ArmServo, DuplicateSeqIsIgnoredAndNewestWins) {
   const auto b = smooth_move(6, servo.state().q, -delta, 1.0);
   EXPECT_TRUE(servo.follow(b));
   EXPECT_EQ(servo.state().trajectory_seq, 6);
+}
+
+// Found by the fuzz target catch_sim (procs/catch/sim): a trajectory asking
+// 6e270 rad/s of joint 1 faults at once, and every step after formatted the
+// demands again (270-digit numbers, only to be dropped: the first reason is
+// kept), a fifth of a millisecond a step and more, so ephor-catch-sim's
+// physics fell behind the clock.
+TEST(ArmServo, ALatchedFaultIsNotFormattedAgainEveryStep) {
+  ArmServo servo(arm::Puma560::default_limits(), start_pose());
+  JointTrajectory t;
+  t.seq = 1;
+  t.t_s = {0.0, 10.0, 20.0};
+  t.q = {start_pose(), start_pose(), start_pose()};
+  Joints fast = Joints::Zero();
+  fast(0) = -6.1e270;
+  fast(3) = -2.5e235;
+  t.qd = {fast, fast, Joints::Zero()};
+  ASSERT_TRUE(servo.follow(t));
+  ASSERT_TRUE(servo.state().fault);
+  const std::string reason = servo.state().fault_reason;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 20000; ++i) servo.step(0.001);
+  const double took_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(servo.state().fault_reason, reason);
+  EXPECT_TRUE(servo.limits().within(servo.state().q));
+  EXPECT_LT(took_s, 0.5) << "20 000 steps of 1 ms took " << took_s << " s";
 }
 
 TEST(ArmServo, MalformedTrajectoriesAreNamed) {
