@@ -20,13 +20,11 @@
 // Trajectory seqs are 4e18 + wall clock us: far above ephor-arm's (which
 // start at the wall clock in us), so the servo never takes one for the other.
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <functional>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -50,6 +48,7 @@
 #include "ephor/joint_state_t.hpp"
 #include "ephor/joint_trajectory_t.hpp"
 #include "ephor/shepherd_tool_light_t.hpp"
+#include "procs/shepherd/calibrate/calibrate_messages.h"
 
 namespace {
 
@@ -62,41 +61,21 @@ struct Interrupted : std::runtime_error {
   Interrupted() : std::runtime_error("interrupted by a signal") {}
 };
 
-// The newest camera frame and joint state, written by the bus thread.
+// The newest camera frame and joint state (CellInputs, written by the bus
+// thread), and the tool light.
 class CellLink {
  public:
   CellLink(ephor::Bus& bus) : bus_(bus) {
     bus.subscribe<ephor::camera_frame_t>(
-        ephor::channels::kCamera, [this](const ephor::camera_frame_t& m) {
-          if (m.width <= 0 || m.height <= 0 ||
-              m.data.size() != static_cast<size_t>(m.width) * static_cast<size_t>(m.height)) {
-            ++bad_frames_;
-            return;
-          }
-          std::lock_guard<std::mutex> lock(mutex_);
-          frame_ = m;
-          frame_utime_ = m.utime;
-        });
-    bus.subscribe<ephor::joint_state_t>(ephor::channels::kArmServo,
-                                        [this](const ephor::joint_state_t& m) {
-                                          for (double q : m.q)
-                                            if (!std::isfinite(q)) return;
-                                          std::lock_guard<std::mutex> lock(mutex_);
-                                          state_ = m;
-                                        });
+        ephor::channels::kCamera, [this](const ephor::camera_frame_t& m) { inputs_.on_frame(m); });
+    bus.subscribe<ephor::joint_state_t>(
+        ephor::channels::kArmServo, [this](const ephor::joint_state_t& m) { inputs_.on_state(m); });
   }
 
-  std::optional<ephor::joint_state_t> state() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return state_;
-  }
-  int64_t frame_utime() const { return frame_utime_; }
-  ephor::calibrate::GreyFrame frame() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return {frame_.width, frame_.height,
-            std::vector<uint8_t>(frame_.data.begin(), frame_.data.end())};
-  }
-  int64_t bad_frames() const { return bad_frames_; }
+  std::optional<ephor::joint_state_t> state() const { return inputs_.state(); }
+  int64_t frame_utime() const { return inputs_.frame_utime(); }
+  ephor::calibrate::GreyFrame frame() const { return inputs_.frame(); }
+  int64_t bad_frames() const { return inputs_.bad_frames(); }
 
   void light(bool on) {
     ephor::shepherd_tool_light_t m;
@@ -107,11 +86,7 @@ class CellLink {
 
  private:
   ephor::Bus& bus_;
-  mutable std::mutex mutex_;
-  ephor::camera_frame_t frame_;
-  std::atomic<int64_t> frame_utime_{0};
-  std::optional<ephor::joint_state_t> state_;
-  std::atomic<int64_t> bad_frames_{0};
+  ephor::calibrate::CellInputs inputs_;
 };
 
 // Turns the light off however the procedure ends.
@@ -122,9 +97,7 @@ struct LightGuard {
   }
 };
 
-ephor::arm::Joints joints_of(const ephor::joint_state_t& s) {
-  return Eigen::Map<const ephor::arm::Joints>(s.q);
-}
+using ephor::calibrate::joints_of;
 
 class Calibrator {
  public:
@@ -169,16 +142,11 @@ class Calibrator {
   void move_to(const ephor::arm::Joints& goal, const std::string& what) {
     const auto now = link_.state();
     const auto path =
-        ephor::calibrate::JointMove::plan(joints_of(*now), goal, puma_.limits(), speed_fraction_);
-    ephor::joint_trajectory_t m;
-    m.utime = ephor::wall_us();
-    m.seq = kSeqBase + m.utime;
-    m.num_points = static_cast<int32_t>(path.t_s.size());
-    for (size_t i = 0; i < path.t_s.size(); ++i) {
-      m.t_s.push_back(static_cast<float>(path.t_s[i]));
-      m.q.emplace_back(path.q[i].data(), path.q[i].data() + 6);
-      m.qd.emplace_back(path.qd[i].data(), path.qd[i].data() + 6);
-    }
+        ephor::calibrate::JointMove::plan(ephor::calibrate::move_start_of(*now, puma_.limits()),
+                                          goal, puma_.limits(), speed_fraction_);
+    const int64_t utime = ephor::wall_us();
+    ephor::joint_trajectory_t m =
+        ephor::calibrate::trajectory_message_of(path, utime, kSeqBase + utime);
     const double timeout = path.duration_s() + 10.0;
     bus_.publish(ephor::channels::kArmTrajectory, m);
     int64_t resent_ns = ephor::mono_ns();

@@ -49,41 +49,11 @@
 #include "ephor/shepherd_sim_cmd_t.hpp"
 #include "ephor/shepherd_tool_light_t.hpp"
 #include "procs/shepherd/sim/sim_config.h"
+#include "procs/shepherd/sim/sim_messages.h"
 
 namespace {
 
 using ephor::sim::JointTrajectory;
-using ephor::sim::to_trajectory;
-
-// 1 ms steps: the camera renders the world at most 1 ms older than its
-// capture time stamp (4 ms steps made frames up to 4 ms stale).
-constexpr double kPhysicsStepS = 0.001;
-constexpr double kMaxLagS = 0.5;  // beyond this the simulation skips ahead instead of catching up
-
-ephor::shepherd_ground_truth_t to_message(const ephor::sim::GroundTruth& gt, int64_t utime,
-                                          int64_t frame_index) {
-  ephor::shepherd_ground_truth_t m;
-  m.utime = utime;
-  m.frame_index = frame_index;
-  m.escapes = gt.escapes;
-  m.saves = gt.saves;
-  m.sim_time_s = gt.time_s;
-  for (const auto& s : gt.sheep) {
-    ephor::shepherd_sheep_truth_t t;
-    t.id = s.state.id;
-    t.x_mm = static_cast<float>(s.state.centre_mm.x());
-    t.y_mm = static_cast<float>(s.state.centre_mm.y());
-    t.heading_rad = static_cast<float>(s.state.heading_rad());
-    t.speed_mm_s = static_cast<float>(s.state.speed_mm_s());
-    t.u = static_cast<float>(s.view.centre_px.x());
-    t.v = static_cast<float>(s.view.centre_px.y());
-    t.visible = s.view.visible;
-    t.on_field = s.state.on_field;
-    m.sheep.push_back(t);
-  }
-  m.num_sheep = static_cast<int32_t>(m.sheep.size());
-  return m;
-}
 
 void write_pgm(const std::string& path, const std::vector<uint8_t>& img, int w, int h) {
   std::ofstream out(path, std::ios::binary);
@@ -100,13 +70,9 @@ struct SimProcess {
   int64_t wall0_us = 0;
   int64_t mono0_ns = 0;
   std::optional<JointTrajectory> pending;  // newest valid trajectory not yet applied
-  // SIM_CMD edge detection.
-  bool last_reset = false;
-  int32_t last_seed = 0;
-  int32_t last_sheep = -1;
-  // Counters (bus thread writes, exit summary reads).
-  std::atomic<int64_t> trajectories_received{0}, trajectories_refused{0}, commands_refused{0},
-      physics_skips{0}, frames{0};
+  ephor::sim::SimInputs inputs;            // the bus handlers (SIM_CMD's under mutex)
+  // Counters (tasks write, exit summary reads).
+  std::atomic<int64_t> physics_skips{0}, frames{0};
 
   explicit SimProcess(ephor::sim::SimulatorConfig c) : sim(std::move(c)) {}
   int64_t utime_of(double t_s) const { return wall0_us + std::llround(t_s * 1e6); }
@@ -202,48 +168,24 @@ int main(int argc, char** argv) {
     ephor::Bus bus(args.lcm_url, args.name);
     ephor::TaskRuntime runtime(bus, {args.name, args.host, !args.no_mlock});
 
-    bus.subscribe<ephor::joint_trajectory_t>(
-        ephor::channels::kArmTrajectory, [&p](const ephor::joint_trajectory_t& m) {
-          ++p.trajectories_received;
-          std::string why;
-          auto t = to_trajectory(m, why);
-          if (!t) {
-            ++p.trajectories_refused;
-            spdlog::warn("ARM_TRAJECTORY seq {} ignored: {} ({} ignored so far)", m.seq, why,
-                         p.trajectories_refused.load());
-            return;
-          }
-          std::lock_guard<std::mutex> lock(p.mutex);
-          p.pending = std::move(*t);
-        });
-    bus.subscribe<ephor::shepherd_sim_cmd_t>(
-        ephor::channels::kSimCmd, [&p](const ephor::shepherd_sim_cmd_t& m) {
-          if (m.sheep < 0 || m.sheep > 64) {
-            ++p.commands_refused;
-            spdlog::warn("SIM_CMD ignored: sheep {} outside [0, 64]", m.sheep);
-            return;
-          }
-          std::lock_guard<std::mutex> lock(p.mutex);
-          const bool reset = m.reset && (!p.last_reset || m.seed != p.last_seed);
-          p.last_reset = m.reset;
-          p.last_seed = m.seed;
-          if (reset) {
-            p.sim.reset(static_cast<uint64_t>(m.seed));
-            p.last_sheep = -1;
-            spdlog::info("world reset with seed {}", m.seed);
-          }
-          if (m.sheep != p.last_sheep) {
-            p.sim.world().set_sheep_count(m.sheep);
-            p.last_sheep = m.sheep;
-          }
-        });
+    bus.subscribe<ephor::joint_trajectory_t>(ephor::channels::kArmTrajectory,
+                                             [&p](const ephor::joint_trajectory_t& m) {
+                                               auto t = p.inputs.on_trajectory(m);
+                                               if (!t) return;
+                                               std::lock_guard<std::mutex> lock(p.mutex);
+                                               p.pending = std::move(*t);
+                                             });
+    bus.subscribe<ephor::shepherd_sim_cmd_t>(ephor::channels::kSimCmd,
+                                             [&p](const ephor::shepherd_sim_cmd_t& m) {
+                                               std::lock_guard<std::mutex> lock(p.mutex);
+                                               p.inputs.on_command(m, p.sim);
+                                             });
 
-    bus.subscribe<ephor::shepherd_tool_light_t>(
-        ephor::channels::kSimToolLight, [&p](const ephor::shepherd_tool_light_t& m) {
-          std::lock_guard<std::mutex> lock(p.mutex);
-          if (p.sim.tool_light() != m.on) spdlog::info("tool light {}", m.on ? "on" : "off");
-          p.sim.set_tool_light(m.on);
-        });
+    bus.subscribe<ephor::shepherd_tool_light_t>(ephor::channels::kSimToolLight,
+                                                [&p](const ephor::shepherd_tool_light_t& m) {
+                                                  std::lock_guard<std::mutex> lock(p.mutex);
+                                                  p.inputs.on_tool_light(m, p.sim);
+                                                });
 
     p.wall0_us = ephor::wall_us();
     p.mono0_ns = ephor::mono_ns();
@@ -251,16 +193,7 @@ int main(int argc, char** argv) {
     // Steps the world up to the present (caller holds p.mutex).
     auto advance_to_now = [&p] {
       const double now_s = static_cast<double>(ephor::mono_ns() - p.mono0_ns) * 1e-9;
-      if (now_s - p.clock_s > kMaxLagS) {
-        // Starved (debugger, overload): skip ahead rather than run a burst.
-        ++p.physics_skips;
-        spdlog::warn("physics {:.3f} s behind the clock; skipping ahead", now_s - p.clock_s);
-        p.clock_s = now_s - kPhysicsStepS;
-      }
-      while (p.clock_s + kPhysicsStepS <= now_s) {
-        p.sim.step(kPhysicsStepS);
-        p.clock_s += kPhysicsStepS;
-      }
+      if (ephor::sim::advance_to(p.sim, p.clock_s, now_s)) ++p.physics_skips;
     };
     runtime.add_periodic("physics", std::chrono::milliseconds(4), [&p, &advance_to_now] {
       std::lock_guard<std::mutex> lock(p.mutex);
@@ -284,7 +217,8 @@ int main(int argc, char** argv) {
                            frame.frame_index = p.frames;
                            frame.size = static_cast<int32_t>(frame.data.size());
                            bus.publish(ephor::channels::kCamera, frame);
-                           auto truth = to_message(gt, utime, frame.frame_index);
+                           auto truth =
+                               ephor::sim::ground_truth_message_of(gt, utime, frame.frame_index);
                            bus.publish(ephor::channels::kGroundTruth, truth);
                            ++p.frames;
                          });
@@ -317,8 +251,8 @@ int main(int argc, char** argv) {
         "summary: escapes {} saves {} over {:.1f} s sim time, {} sheep on the field, {} frames, "
         "{} trajectories ({} ignored), {} commands ignored, {} physics skips",
         p.sim.world().escapes(), p.sim.world().saves(), p.sim.world().time_s(),
-        p.sim.world().sheep().size(), p.frames.load(), p.trajectories_received.load(),
-        p.trajectories_refused.load(), p.commands_refused.load(), p.physics_skips.load());
+        p.sim.world().sheep().size(), p.frames.load(), p.inputs.trajectories_received(),
+        p.inputs.trajectories_refused(), p.inputs.commands_refused(), p.physics_skips.load());
   } catch (const ephor::ConfigError& e) {
     // A file given on the command line is bad: one line, status 2 (issue 18).
     std::cerr << "ephor-sim: " << e.what() << "\n";
