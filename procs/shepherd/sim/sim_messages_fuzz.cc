@@ -35,7 +35,10 @@
 // herd resized and reset with new seeds, the light switched; trajectories
 // malformed, out of the limits, repeated and overwritten; starved tasks)
 // and crash-light-on-byte-2, an LCM boolean of 2: the light goes on, as for
-// 1 (the fault was this target's, which compared the byte with the light).
+// 1 (the fault was this target's, which compared the byte with the light);
+// crash-timeout-servo-reason-every-step, a trajectory asking ~1e300 rad/s
+// whose fault reason ArmServo formatted at every 1 ms step (30 s for an
+// input under ASan; fixed in aec2577, found there by catch_sim).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
