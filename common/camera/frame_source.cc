@@ -131,7 +131,14 @@ void FrameSource::open_capture() {
                                            "not a capture device?)"
                                          : ": OpenCV cannot decode it"));
   }
-  if (!capture_.read(first_) || first_.empty()) {
+  // OpenCV's own AVI reader asserts (cv::Exception) on a corrupt chunk.
+  bool read = false;
+  try {
+    read = capture_.read(first_);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error(what + ": cannot decode its first frame: " + e.what());
+  }
+  if (!read || first_.empty()) {
     throw std::runtime_error(what + ": no frame could be read (empty or undecodable)");
   }
   first_pending_ = true;
@@ -146,7 +153,16 @@ bool FrameSource::read(cv::Mat& frame) {
     return true;
   }
   cv::Mat next;
-  if (!capture_.read(next) || next.empty()) return false;
+  bool read = false;
+  try {
+    read = capture_.read(next);
+  } catch (const cv::Exception& e) {
+    // OpenCV's own AVI reader asserts on a corrupt chunk (found by the fuzz
+    // target video_file_camera).
+    throw std::runtime_error(std::string(source_kind_name(kind_)) + " '" + spec_ +
+                             "': cannot decode the next frame: " + e.what());
+  }
+  if (!read || next.empty()) return false;
   frame = next;
   return true;
 }

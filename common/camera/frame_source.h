@@ -40,6 +40,8 @@ class FrameSource {
 
   // The next frame (BGR, grey, ... as decoded); false at the end of a file or
   // sequence, or when a device stops delivering. `frame` is then unchanged.
+  // Throws std::runtime_error naming the source when OpenCV fails on the
+  // frame (a corrupt file).
   bool read(cv::Mat& frame);
   // Starts a file or sequence again from its first frame (for --loop).
   // Throws std::runtime_error if it cannot be reopened. No-op for a device.

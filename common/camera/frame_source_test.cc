@@ -100,6 +100,29 @@ TEST_F(FrameSourceTest, BadSourcesAreNamed) {
   EXPECT_FALSE(msg.empty());
 }
 
+// Found by the fuzz target video_file_camera (procs/shared/camera): an AVI
+// FFmpeg refuses and OpenCV's own AVI reader opens, then asserts on (a chunk
+// of 4 GB): the cv::Exception escaped FrameSource::read, and ephor-camera's
+// task logged it at every period instead of stopping with the file's name.
+TEST(FrameSourceFaults, AFrameOpenCvFailsOnIsAnErrorNamingTheFile) {
+  const std::string path =
+      (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() /
+       "procs/shared/camera/fuzz_corpus/video_file_camera/crash-opencv-avi-chunk-assert.avi")
+          .string();
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  std::string error;
+  try {
+    FrameSource source(path);
+    cv::Mat frame;
+    for (int i = 0; i < 100 && source.read(frame); ++i) {
+    }
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_NE(error.find("cannot decode"), std::string::npos) << error;
+}
+
 TEST(SourceKindTest, FromTheFormOfTheSpec) {
   EXPECT_EQ(classify_source("/dev/video0"), SourceKind::kDevice);
   EXPECT_EQ(classify_source("2"), SourceKind::kDevice);

@@ -21,10 +21,14 @@ cv::VideoCapture open_video(const std::string& path) {
   if (pattern && !dir.empty() && !fs::is_directory(dir))
     throw VideoInputError("image sequence '" + path + "': no folder '" + dir.string() + "'");
   cv::VideoCapture capture;
-  if (pattern)
-    capture.open(path, cv::CAP_IMAGES);
-  else
-    capture.open(path);
+  try {
+    if (pattern)
+      capture.open(path, cv::CAP_IMAGES);
+    else
+      capture.open(path);
+  } catch (const cv::Exception& e) {
+    throw VideoInputError("cannot open '" + path + "': " + e.what());
+  }
   if (!capture.isOpened())
     throw VideoInputError(
         "cannot open '" + path +
@@ -35,7 +39,16 @@ cv::VideoCapture open_video(const std::string& path) {
 cv::Mat next_frame(cv::VideoCapture& capture, int index, const std::string& video_path,
                    const CameraIntrinsics& camera, const std::string& camera_path) {
   cv::Mat decoded;
-  if (!capture.read(decoded) || decoded.empty()) return {};
+  bool read = false;
+  try {
+    read = capture.read(decoded);
+  } catch (const cv::Exception& e) {
+    // OpenCV's own AVI reader asserts on a corrupt chunk (found by the fuzz
+    // target video_file_catch_track).
+    throw VideoInputError("frame " + std::to_string(index) + " of " + video_path +
+                          ": cannot be decoded: " + e.what());
+  }
+  if (!read || decoded.empty()) return {};
   cv::Mat grey;
   try {
     grey = to_grey(decoded);

@@ -34,7 +34,7 @@ cv::VideoCapture open_video(const std::string& path);
 // The next frame as 8-bit grey of the camera's size, or an empty Mat at the
 // end. Throws VideoInputError naming the frame (`index`, from 0) and the
 // video for a frame of another depth, channel count or size than the camera
-// file's.
+// file's, or one OpenCV fails to decode (a corrupt file).
 cv::Mat next_frame(cv::VideoCapture& capture, int index, const std::string& video_path,
                    const CameraIntrinsics& camera, const std::string& camera_path);
 

@@ -11,16 +11,23 @@ namespace ephor::camera {
 void CameraTask::run_job() {
   if (done_) return;
   if (max_frames_ > 0 && msg_.frame_index >= max_frames_) return finish("--frames reached");
-  if (!source_.read(image_)) {
-    if (!loop_) return finish("end of the source");
-    try {
-      source_.rewind();
-    } catch (const std::exception& e) {
-      spdlog::error("{}", e.what());
-      failed_ = true;
-      return finish("cannot start the source again");
+  try {
+    if (!source_.read(image_)) {
+      if (!loop_) return finish("end of the source");
+      try {
+        source_.rewind();
+      } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        failed_ = true;
+        return finish("cannot start the source again");
+      }
+      if (!source_.read(image_)) return finish("the source gave no frame after rewinding");
     }
-    if (!source_.read(image_)) return finish("the source gave no frame after rewinding");
+  } catch (const std::exception& e) {
+    // A frame the decoder fails on (FrameSource::read): the file is corrupt.
+    spdlog::error("{}", e.what());
+    failed_ = true;
+    return finish("the source failed");
   }
   const int64_t capture_us = wall_us();
   try {

@@ -40,7 +40,8 @@ class CameraTask {
   void run_job();
 
   bool done() const { return done_; }
-  // The source could not be started again for --loop (the process exits 1).
+  // The source failed: a frame it could not decode, or it could not be
+  // started again for --loop (the process exits 1).
   bool failed() const { return failed_; }
   int64_t published() const { return msg_.frame_index; }
   int64_t bad_frames() const { return bad_frames_; }
