@@ -35,6 +35,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 
 #include <opencv2/core/utils/logger.hpp>
 
@@ -51,17 +52,27 @@ using namespace ephor::catching;
 constexpr int kInitFrames = 10;  // --init-frames' default
 constexpr int kMaxFrames = 60;   // per pass
 
-// clip.avi in a folder of its own, removed at exit.
-const std::string& video_path() {
-  static const std::string path = [] {
+// clip.avi in a folder of its own, made for one input and removed after it
+// (libFuzzer ends without running atexit handlers).
+class TempVideo {
+ public:
+  TempVideo() {
     std::string dir = (std::filesystem::temp_directory_path() / "ephor-fuzz-video-XXXXXX").string();
     if (::mkdtemp(dir.data()) == nullptr) fuzz::fail("cannot make a temporary folder");
-    static const std::string folder = dir;
-    std::atexit([] { std::filesystem::remove_all(folder); });
-    return dir + "/clip.avi";
-  }();
-  return path;
-}
+    dir_ = dir;
+    path_ = dir + "/clip.avi";
+  }
+  ~TempVideo() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  TempVideo(const TempVideo&) = delete;
+  TempVideo& operator=(const TempVideo&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string dir_, path_;
+};
 
 void write_file(const std::string& path, const uint8_t* data, size_t size) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -89,7 +100,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return c;
   }();
   static const BoardSpec board;
-  const std::string& path = video_path();
+  const TempVideo video;
+  const std::string& path = video.path();
   const std::string camera_path = "camera.pbtxt";
   write_file(path, data, size);
 

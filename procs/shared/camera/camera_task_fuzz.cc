@@ -37,6 +37,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -55,17 +56,27 @@ using namespace ephor::camera;
 constexpr int kMaxJobs = 40;
 constexpr int64_t kMaxFrames = 30;  // --frames
 
-// clip.avi in a folder of its own, removed at exit.
-const std::string& video_path() {
-  static const std::string path = [] {
+// clip.avi in a folder of its own, made for one input and removed after it
+// (libFuzzer ends without running atexit handlers).
+class TempVideo {
+ public:
+  TempVideo() {
     std::string dir = (std::filesystem::temp_directory_path() / "ephor-fuzz-video-XXXXXX").string();
     if (::mkdtemp(dir.data()) == nullptr) fuzz::fail("cannot make a temporary folder");
-    static const std::string folder = dir;
-    std::atexit([] { std::filesystem::remove_all(folder); });
-    return dir + "/clip.avi";
-  }();
-  return path;
-}
+    dir_ = dir;
+    path_ = dir + "/clip.avi";
+  }
+  ~TempVideo() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  TempVideo(const TempVideo&) = delete;
+  TempVideo& operator=(const TempVideo&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string dir_, path_;
+};
 
 void write_file(const std::string& path, const uint8_t* data, size_t size) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -83,7 +94,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return true;
   }();
   (void)quiet;
-  const std::string& path = video_path();
+  const TempVideo video;
+  const std::string& path = video.path();
   write_file(path, data, size);
 
   std::unique_ptr<FrameSource> source;
