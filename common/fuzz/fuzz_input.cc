@@ -4,6 +4,10 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
 
 namespace ephor::fuzz {
 
@@ -25,6 +29,25 @@ const std::string& FuzzInputFile::write(const uint8_t* data, size_t size) {
     if (n <= 0) fail("write of the fuzz input file failed");
     done += static_cast<size_t>(n);
   }
+  return path_;
+}
+
+FuzzNamedFile::FuzzNamedFile(const std::string& name) {
+  std::string dir = (std::filesystem::temp_directory_path() / "ephor-fuzz-XXXXXX").string();
+  if (::mkdtemp(dir.data()) == nullptr) fail("cannot make a temporary folder");
+  dir_ = dir;
+  path_ = dir + "/" + name;
+}
+
+FuzzNamedFile::~FuzzNamedFile() {
+  std::error_code ignored;
+  std::filesystem::remove_all(dir_, ignored);
+}
+
+const std::string& FuzzNamedFile::write(const uint8_t* data, size_t size) {
+  std::ofstream out(path_, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  if (!out) fail("cannot write " + path_);
   return path_;
 }
 

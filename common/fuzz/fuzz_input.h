@@ -6,6 +6,10 @@
 // One in-memory file (memfd) per process, rewritten for each input and named
 // /proc/self/fd/N, so a run does not touch the disk.
 //
+// FuzzNamedFile: the same as a file of a given name (for readers that pick
+// their decoder by the name's extension, as OpenCV's video readers do), in a
+// temporary folder of its own on disk, removed with the object.
+//
 // FuzzBytes: reads typed values off the fuzzer's bytes (as libFuzzer's
 // FuzzedDataProvider, which the gcc build does not have), for targets that
 // drive a state machine with a sequence of events. Past the end every value
@@ -13,6 +17,7 @@
 // infinities, denormals and huge values all come up.
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -35,6 +40,21 @@ class FuzzInputFile {
  private:
   int fd_ = -1;
   std::string path_;
+};
+
+class FuzzNamedFile {
+ public:
+  explicit FuzzNamedFile(const std::string& name);
+  ~FuzzNamedFile();
+  FuzzNamedFile(const FuzzNamedFile&) = delete;
+  FuzzNamedFile& operator=(const FuzzNamedFile&) = delete;
+
+  // Replaces the file's contents with `size` bytes at `data`; returns path().
+  const std::string& write(const uint8_t* data, size_t size);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string dir_, path_;
 };
 
 class FuzzBytes {
@@ -141,5 +161,21 @@ void append_message(std::vector<uint8_t>& out, int channel, int64_t step_us, con
 // A broken invariant: prints `what` and aborts, so libFuzzer (and the corpus
 // runner) report the input as a crash.
 [[noreturn]] void fail(const std::string& what);
+
+// Fails unless the message encodes to its getEncodedSize() (LCM's encoder
+// writes a string only up to a NUL byte, so a receiver would drop it).
+template <typename T>
+void check_encodes(const T& message, const std::string& what) {
+  const int n = message.getEncodedSize();
+  std::vector<uint8_t> bytes(static_cast<size_t>(n));
+  if (message.encode(bytes.data(), 0, n) != n) fail(what + " does not encode");
+}
+
+// Every one of the n values finite.
+inline bool all_finite(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
 
 }  // namespace ephor::fuzz

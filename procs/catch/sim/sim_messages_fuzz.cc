@@ -56,19 +56,6 @@ using namespace ephor::catching;
 constexpr int64_t kPhysicsPeriodUs = 2'000;     // task "physics"
 constexpr int64_t kMaxSimulatedUs = 6'000'000;  // per input
 
-bool finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
-template <typename T>
-void check_encodes(const T& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 void check_servo(const CatchSimProcess& p) {
   const sim::ServoState& s = p.servo.state();
   const arm::JointLimits& limits = p.servo.limits();
@@ -85,21 +72,23 @@ void check_servo(const CatchSimProcess& p) {
 }
 
 void check_servo_message(const joint_state_t& m) {
-  if (!finite(m.q, 6) || !finite(m.qd, 6)) fuzz::fail("an ARM_SERVO that is not finite");
-  check_encodes(m, "ARM_SERVO");
+  if (!fuzz::all_finite(m.q, 6) || !fuzz::all_finite(m.qd, 6))
+    fuzz::fail("an ARM_SERVO that is not finite");
+  fuzz::check_encodes(m, "ARM_SERVO");
 }
 
 void check_truth(const catch_truth_t& m) {
-  if (!finite(m.ball_b_mm, 3) || !finite(m.ball_w_mm, 3) || !finite(m.ball_velocity_b_mm_s, 2) ||
-      !finite(m.cup_w_mm, 3) || !std::isfinite(m.exit_x_b_mm) || !std::isfinite(m.incline_deg) ||
-      !finite(m.board_to_camera_r, 9) || !finite(m.board_to_camera_t_mm, 3))
+  if (!fuzz::all_finite(m.ball_b_mm, 3) || !fuzz::all_finite(m.ball_w_mm, 3) ||
+      !fuzz::all_finite(m.ball_velocity_b_mm_s, 2) || !fuzz::all_finite(m.cup_w_mm, 3) ||
+      !std::isfinite(m.exit_x_b_mm) || !std::isfinite(m.incline_deg) ||
+      !fuzz::all_finite(m.board_to_camera_r, 9) || !fuzz::all_finite(m.board_to_camera_t_mm, 3))
     fuzz::fail("a CATCH_TRUTH that is not finite");
   if (m.phase < catch_truth_t::PHASE_WAITING || m.phase > catch_truth_t::PHASE_DONE)
     fuzz::fail("a CATCH_TRUTH phase out of range");
   if (m.caught < 0 || m.caught > m.balls_done || m.oracle_reachable > m.balls_done)
     fuzz::fail(fmt::format("CATCH_TRUTH counts: {} judged, {} caught, {} reachable", m.balls_done,
                            m.caught, m.oracle_reachable));
-  check_encodes(m, "CATCH_TRUTH");
+  fuzz::check_encodes(m, "CATCH_TRUTH");
 }
 
 }  // namespace

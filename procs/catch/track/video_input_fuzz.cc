@@ -25,15 +25,12 @@
 //
 // Seeds: fuzz_corpus/video_file_catch_track (MJPG and raw AVI files of a
 // few 32 x 24 frames, colour and grey, one 40 x 30, one cut short).
-#include <unistd.h>
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -51,34 +48,6 @@ using namespace ephor::catching;
 
 constexpr int kInitFrames = 10;  // --init-frames' default
 constexpr int kMaxFrames = 60;   // per pass
-
-// clip.avi in a folder of its own, made for one input and removed after it
-// (libFuzzer ends without running atexit handlers).
-class TempVideo {
- public:
-  TempVideo() {
-    std::string dir = (std::filesystem::temp_directory_path() / "ephor-fuzz-video-XXXXXX").string();
-    if (::mkdtemp(dir.data()) == nullptr) fuzz::fail("cannot make a temporary folder");
-    dir_ = dir;
-    path_ = dir + "/clip.avi";
-  }
-  ~TempVideo() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  TempVideo(const TempVideo&) = delete;
-  TempVideo& operator=(const TempVideo&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string dir_, path_;
-};
-
-void write_file(const std::string& path, const uint8_t* data, size_t size) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  if (!out) fuzz::fail("cannot write " + path);
-}
 
 void check_refusal(const VideoInputError& e, const std::string& path) {
   if (std::string(e.what()).find(path) == std::string::npos)
@@ -100,10 +69,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return c;
   }();
   static const BoardSpec board;
-  const TempVideo video;
-  const std::string& path = video.path();
+  // clip.avi in a folder of its own, made for this input and removed after
+  // it (OpenCV picks its reader by the extension).
+  fuzz::FuzzNamedFile video("clip.avi");
+  const std::string& path = video.write(data, size);
   const std::string camera_path = "camera.pbtxt";
-  write_file(path, data, size);
 
   OfflineBallTracker tracker(board, camera, OfflineTrackerOptions{});
   const auto read = [&](cv::VideoCapture& capture, int i) {

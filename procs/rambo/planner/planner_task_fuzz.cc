@@ -52,15 +52,8 @@ void check_joints(const arm::JointLimits& lim, const double* q, const char* what
   }
 }
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 void check(const PlannerTask& task, const PlannerTask::Period& p) {
-  check_encodes(p.plan, "the plan");
+  fuzz::check_encodes(p.plan, "the plan");
   if (!std::isfinite(p.plan.order_total_s)) fuzz::fail("a plan's order time that is not finite");
   if (!p.goal) return;
   const arm_goal_t& g = *p.goal;
@@ -90,7 +83,7 @@ void check(const PlannerTask& task, const PlannerTask::Period& p) {
   } else if (g.kind != arm_goal_t::KIND_JOINTS) {
     fuzz::fail("a goal of a kind the planner does not send");
   }
-  check_encodes(g, "the goal");
+  fuzz::check_encodes(g, "the goal");
 }
 
 }  // namespace

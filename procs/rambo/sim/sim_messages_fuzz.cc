@@ -80,19 +80,6 @@ constexpr double kTol = 1e-9;
 // other message in every order.
 constexpr int kMaxPredictions = 8;
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
-bool all_finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
 struct ServoCheck {
   arm::JointLimits limits;
   bool have_previous = false;
@@ -126,7 +113,7 @@ struct ServoCheck {
     }
     have_previous = true;
     previous_s = clock_s;
-    check_encodes(m, "ARM_SERVO");
+    fuzz::check_encodes(m, "ARM_SERVO");
   }
 };
 
@@ -140,7 +127,7 @@ void check_indicator(const rambo_indicator_t& m) {
     if (!std::isfinite(m.beam_angle_deg[i]) || !std::isfinite(m.beam_offset_mm[i]) ||
         !std::isfinite(m.tagged_utime[i]))
       fuzz::fail("RAMBO_INDICATOR with a reading that is not finite");
-  check_encodes(m, "RAMBO_INDICATOR");
+  fuzz::check_encodes(m, "RAMBO_INDICATOR");
 }
 
 void check_truth(const CameraShot& shot, SimWorld& w) {
@@ -151,11 +138,11 @@ void check_truth(const CameraShot& shot, SimWorld& w) {
     truth.carrier_mm.push_back({p.x(), p.y(), p.z()});
   truth.carrier_points = static_cast<int32_t>(truth.carrier_mm.size());
   truth.frame_index = w.frames;
-  if (!all_finite(truth.target_r, 9) || !all_finite(truth.target_t_mm, 3) ||
-      !all_finite(truth.camera_r, 9) || !all_finite(truth.camera_t_mm, 3) ||
-      !all_finite(truth.body_rates_rad_s, 3))
+  if (!fuzz::all_finite(truth.target_r, 9) || !fuzz::all_finite(truth.target_t_mm, 3) ||
+      !fuzz::all_finite(truth.camera_r, 9) || !fuzz::all_finite(truth.camera_t_mm, 3) ||
+      !fuzz::all_finite(truth.body_rates_rad_s, 3))
     fuzz::fail("RAMBO_TRUTH that is not finite");
-  check_encodes(truth, "RAMBO_TRUTH");
+  fuzz::check_encodes(truth, "RAMBO_TRUTH");
   ++w.frames;
 }
 

@@ -26,15 +26,12 @@
 //
 // Seeds: fuzz_corpus/video_file_camera (MJPG and raw AVI files of a few
 // 32 x 24 frames, colour and grey, one 40 x 30, one cut short).
-#include <unistd.h>
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <system_error>
@@ -56,34 +53,6 @@ using namespace ephor::camera;
 constexpr int kMaxJobs = 40;
 constexpr int64_t kMaxFrames = 30;  // --frames
 
-// clip.avi in a folder of its own, made for one input and removed after it
-// (libFuzzer ends without running atexit handlers).
-class TempVideo {
- public:
-  TempVideo() {
-    std::string dir = (std::filesystem::temp_directory_path() / "ephor-fuzz-video-XXXXXX").string();
-    if (::mkdtemp(dir.data()) == nullptr) fuzz::fail("cannot make a temporary folder");
-    dir_ = dir;
-    path_ = dir + "/clip.avi";
-  }
-  ~TempVideo() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  TempVideo(const TempVideo&) = delete;
-  TempVideo& operator=(const TempVideo&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string dir_, path_;
-};
-
-void write_file(const std::string& path, const uint8_t* data, size_t size) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  if (!out) fuzz::fail("cannot write " + path);
-}
-
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -94,9 +63,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return true;
   }();
   (void)quiet;
-  const TempVideo video;
-  const std::string& path = video.path();
-  write_file(path, data, size);
+  // clip.avi in a folder of its own, made for this input and removed after
+  // it (OpenCV picks its reader by the extension).
+  fuzz::FuzzNamedFile video("clip.avi");
+  const std::string& path = video.write(data, size);
 
   std::unique_ptr<FrameSource> source;
   try {

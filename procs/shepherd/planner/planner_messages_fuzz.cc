@@ -57,13 +57,6 @@ namespace {
 using namespace ephor;
 using namespace ephor::planner;
 
-template <typename T>
-void check_encodes(const T& msg, const char* what) {
-  const int bytes = msg.getEncodedSize();
-  std::vector<uint8_t> out(static_cast<size_t>(bytes));
-  if (msg.encode(out.data(), 0, bytes) != bytes) fuzz::fail(what);
-}
-
 // The goal's place against the planner's rules (see the header comment).
 void check_goal(const Goal& g, const Scene& scene, const PlannerConfig& config) {
   if (!(std::isfinite(g.x_mm) && std::isfinite(g.y_mm) && std::isfinite(g.theta_rad)))
@@ -157,9 +150,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (!agreement.agrees()) {
         PlannerStatus st = planner->status();
         st.phase = "workcell mismatch";
-        check_encodes(status_message_of(st, planner->kind(), calibration, goal_id_offset,
-                                        objects->utime, 0.0f),
-                      "PLANNER_STATUS does not encode");
+        fuzz::check_encodes(status_message_of(st, planner->kind(), calibration, goal_id_offset,
+                                              objects->utime, 0.0f),
+                            "PLANNER_STATUS");
         continue;
       }
       if (const auto model = arm_model_of(*arm, arm_model, config.workcell)) scene.arm = *model;
@@ -173,12 +166,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       const arm_goal_t m = goal_message_of(*goal, calibration, goal_id_offset, objects->utime);
       if (!(std::isfinite(m.u) && std::isfinite(m.v) && std::isfinite(m.theta_rad)))
         fuzz::fail("a goal whose image point or orientation is not finite");
-      check_encodes(m, "ARM_GOAL does not encode");
+      fuzz::check_encodes(m, "ARM_GOAL");
       newest_goal_id = m.goal_id;
     }
-    check_encodes(
+    fuzz::check_encodes(
         status_message_of(st, planner->kind(), calibration, goal_id_offset, objects->utime, 1.0f),
-        "PLANNER_STATUS does not encode");
+        "PLANNER_STATUS");
   }
   return 0;
 }

@@ -64,13 +64,6 @@ constexpr int64_t kMaxSimUs = 4'000'000;
 constexpr int kMaxFrames = 4;
 constexpr double kTol = 1e-6;
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 struct Run {
   Simulator sim;
   SimInputs inputs;
@@ -120,7 +113,7 @@ struct Run {
     }
     if (s.fault && s.fault_reason.empty()) fuzz::fail("a servo fault without a reason");
     joint_state_t m = to_joint_state(s, 1'700'000'000'000'000 + now_us);
-    check_encodes(m, "the servo state");
+    fuzz::check_encodes(m, "the servo state");
     last = s;
     last_s = clock_s;
   }
@@ -141,7 +134,7 @@ struct Run {
       if (!std::isfinite(s.x_mm) || !std::isfinite(s.y_mm) || !std::isfinite(s.heading_rad) ||
           !std::isfinite(s.speed_mm_s) || !std::isfinite(s.u) || !std::isfinite(s.v))
         fuzz::fail("a sheep's ground truth that is not finite");
-    check_encodes(m, "the ground truth");
+    fuzz::check_encodes(m, "the ground truth");
     ++frames;
   }
 };

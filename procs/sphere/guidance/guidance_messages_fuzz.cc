@@ -37,12 +37,6 @@ namespace {
 using namespace ephor;
 using namespace ephor::sphere;
 
-bool finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
 // The guide task with one message from the mailbox.
 void guide(SphereGuidance& guidance, const GuidanceConfig& config, const sphere_estimate_t& m) {
   const int bad_before = guidance.bad_inputs();
@@ -63,9 +57,10 @@ void guide(SphereGuidance& guidance, const GuidanceConfig& config, const sphere_
   if (guidance.chaser_velocity() != v) fuzz::fail("the command is not the velocity kept");
   sphere_guidance_t g = guidance_message_of(*out, guidance, config);
   g.utime = 1'700'000'000'000'000;
-  if (!std::isfinite(g.apply_t_s) || !finite(g.chaser_velocity_m_s, 3) || !std::isfinite(g.t_s) ||
-      !finite(g.position_m, 3) || !finite(g.velocity_m_s, 3) || !finite(g.position_sigma_m, 3) ||
-      !finite(g.velocity_sigma_m_s, 3) || !std::isfinite(g.range_to_capture_m))
+  if (!std::isfinite(g.apply_t_s) || !fuzz::all_finite(g.chaser_velocity_m_s, 3) ||
+      !std::isfinite(g.t_s) || !fuzz::all_finite(g.position_m, 3) ||
+      !fuzz::all_finite(g.velocity_m_s, 3) || !fuzz::all_finite(g.position_sigma_m, 3) ||
+      !fuzz::all_finite(g.velocity_sigma_m_s, 3) || !std::isfinite(g.range_to_capture_m))
     fuzz::fail("a SPHERE_GUIDANCE that is not finite");
   if (g.phase < sphere_guidance_t::PHASE_ACQUIRE || g.phase > sphere_guidance_t::PHASE_FINAL)
     fuzz::fail("a phase out of range");

@@ -55,28 +55,15 @@ constexpr int64_t kScanUs = 5'000;
 constexpr int64_t kTruthUs = 50'000;
 constexpr int64_t kMaxScanUs = 6'000'000;  // kMaxScanS = 6 s
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
-bool all_finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
 void check_truth(const sphere_truth_t& m, bool approach) {
-  if (!std::isfinite(m.t_s) || !all_finite(m.position_m, 3) || !all_finite(m.velocity_m_s, 3) ||
-      !all_finite(m.chaser_velocity_m_s, 3) || !all_finite(m.target_velocity_m_s, 3) ||
-      !std::isfinite(m.half_extent_deg))
+  if (!std::isfinite(m.t_s) || !fuzz::all_finite(m.position_m, 3) ||
+      !fuzz::all_finite(m.velocity_m_s, 3) || !fuzz::all_finite(m.chaser_velocity_m_s, 3) ||
+      !fuzz::all_finite(m.target_velocity_m_s, 3) || !std::isfinite(m.half_extent_deg))
     fuzz::fail("SPHERE_TRUTH that is not finite");
   if (!approach && (!std::isfinite(m.capture_t_s) || !std::isfinite(m.capture_speed_m_s) ||
                     !std::isfinite(m.capture_offset_m)))
     fuzz::fail("a verdict that is not finite");
-  check_encodes(m, "SPHERE_TRUTH");
+  fuzz::check_encodes(m, "SPHERE_TRUTH");
 }
 
 struct LineCheck {
@@ -104,7 +91,7 @@ struct LineCheck {
       if (!std::isnan(m.range_m[i]) && !(std::isfinite(m.range_m[i]) && m.range_m[i] > 0))
         fuzz::fail(fmt::format("a pulse with range {} m", m.range_m[i]));
     }
-    check_encodes(m, "SPHERE_SCAN_LINE");
+    fuzz::check_encodes(m, "SPHERE_SCAN_LINE");
   }
 };
 
@@ -177,7 +164,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     run_until(clock_us + msg.step_us);
     sphere_guidance_t m;
     if (!msg.decode(m)) continue;
-    const bool finite = std::isfinite(m.apply_t_s) && all_finite(m.chaser_velocity_m_s, 3);
+    const bool finite = std::isfinite(m.apply_t_s) && fuzz::all_finite(m.chaser_velocity_m_s, 3);
     const int64_t refused = ranger.commands_refused();
     if (ranger.on_guidance(m) != finite)
       fuzz::fail(finite ? "a finite command refused" : "a command that is not finite taken");

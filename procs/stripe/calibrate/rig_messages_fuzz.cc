@@ -48,13 +48,6 @@ using namespace ephor::stripe;
 constexpr const char* kName = "calibrate";  // the process's default --name
 constexpr int kCaptures = 10;               // BusRig::take()'s attempts
 
-template <typename T>
-void check_encodes(const T& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 void check_error(const CalibrationError& e) {
   if (std::string(e.what()).empty()) fuzz::fail("a CalibrationError without a message");
 }
@@ -88,7 +81,7 @@ class Rig {
       if (g.goal_id != ++goals_ || inbox_.goal_id() != goals_) fuzz::fail("goal ids out of order");
       if (g.kind != arm_goal_t::KIND_JOINTS) fuzz::fail("an ARM_GOAL that is not a joint goal");
       if (inbox_.done()) fuzz::fail("an old MOTION_DONE taken for the new goal");
-      check_encodes(g, "ARM_GOAL");
+      fuzz::check_encodes(g, "ARM_GOAL");
       view_ = true;
       mode_ = (how & 1) != 0 ? stripe_capture_t::MODE_SPOT : stripe_capture_t::MODE_STRIPE;
       captures_ = 0;
@@ -141,7 +134,7 @@ class Rig {
     request_id_ = c.request_id;
     if (c.request_id != goals_) fuzz::fail("a capture whose request id is not its view's");
     if (inbox_.image()) fuzz::fail("an old image taken for the new request");
-    check_encodes(c, "STRIPE_CAPTURE");
+    fuzz::check_encodes(c, "STRIPE_CAPTURE");
     ++captures_;
   }
 

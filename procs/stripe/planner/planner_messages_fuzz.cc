@@ -95,13 +95,6 @@ RasterPlan plan_from(const RasterSpec& spec, bool small, const arm::Joints& q) {
   return std::get<RasterPlan>(it->second);
 }
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 // The plan task's answers, checked.
 class CheckedOutputs : public PlanOutputs {
  public:
@@ -118,7 +111,7 @@ class CheckedOutputs : public PlanOutputs {
     if (!goal_ids_.insert(g.goal_id).second) fuzz::fail("a goal id sent twice");
     if (m.kind != arm_goal_t::KIND_JOINTS || !(m.max_speed_mm_s >= 0.0f))
       fuzz::fail("a goal message of the wrong kind or speed");
-    check_encodes(m, "ARM_GOAL");
+    fuzz::check_encodes(m, "ARM_GOAL");
   }
 
   void capture(const CaptureAction& c, stripe_capture_t m) override {
@@ -127,7 +120,7 @@ class CheckedOutputs : public PlanOutputs {
     if (c.request_id < last_request_) fuzz::fail("a capture's request id went back");
     last_request_ = c.request_id;
     if ((c.stripe < 0) != (m.scan_id == 0)) fuzz::fail("a capture in the wrong scan");
-    check_encodes(m, "STRIPE_CAPTURE");
+    fuzz::check_encodes(m, "STRIPE_CAPTURE");
   }
 
   void scan(stripe_scan_t m) override {
@@ -138,7 +131,7 @@ class CheckedOutputs : public PlanOutputs {
     if (!std::isfinite(m.elapsed_s) || !std::isfinite(m.stripes_per_s) ||
         !(m.motion_s >= 0.0 && std::isfinite(m.motion_s)) || m.cloud_points < 0)
       fuzz::fail("STRIPE_SCAN's times or rates not finite");
-    check_encodes(m, "STRIPE_SCAN");
+    fuzz::check_encodes(m, "STRIPE_SCAN");
   }
 
  private:

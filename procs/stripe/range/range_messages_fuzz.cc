@@ -58,13 +58,6 @@ const RangeFinder& finder() {
   return f;
 }
 
-template <typename M>
-void check_encodes(const M& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
 // What the accumulator should hold: points per stripe of each open scan.
 struct Model {
   std::map<int64_t, std::map<int, int64_t>> scans;
@@ -103,7 +96,7 @@ void range_task(const stripe_profile_t& m, CloudAccumulator& clouds, Model& mode
   }
   if (out.scan_stripes != stripes || out.scan_points != points)
     fuzz::fail("the scan's counts in STRIPE_POINTS are not its stripes'");
-  check_encodes(out, "STRIPE_POINTS");
+  fuzz::check_encodes(out, "STRIPE_POINTS");
 }
 
 void cloud_task(CloudAccumulator& clouds, FinishedClouds& finished, Model& model, double now_s) {
@@ -131,7 +124,7 @@ void cloud_task(CloudAccumulator& clouds, FinishedClouds& finished, Model& model
       for (int i = 0; i < 3; ++i)
         if (!(p[i] >= m.bbox_mm[i] && p[i] <= m.bbox_mm[3 + i]))
           fuzz::fail("a cloud point outside its bounding box");
-    check_encodes(m, "STRIPE_CLOUD");
+    fuzz::check_encodes(m, "STRIPE_CLOUD");
     remember_cloud(finished, m);
     if (finished.size() > kFinishedCloudsKept) fuzz::fail("too many clouds kept");
   }
@@ -165,7 +158,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (again) {
         if (m.state != stripe_scan_t::STATE_CAPTURED || again->scan_id != m.scan_id)
           fuzz::fail("a cloud said again for the wrong scan");
-        check_encodes(*again, "the STRIPE_CLOUD said again");
+        fuzz::check_encodes(*again, "the STRIPE_CLOUD said again");
       }
       continue;
     }

@@ -78,19 +78,6 @@ const World& world() {
   return w;
 }
 
-template <typename T>
-void check_encodes(const T& m, const char* what) {
-  const int size = m.getEncodedSize();
-  std::vector<uint8_t> bytes(static_cast<size_t>(size));
-  if (m.encode(bytes.data(), 0, size) != size) fuzz::fail(std::string(what) + " does not encode");
-}
-
-bool finite(const double* v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
-  return true;
-}
-
 class Sim {
  public:
   Sim() : servo_(world().limits), trace_(std::getenv("STRIPE_SIM_FUZZ_TRACE") != nullptr) {}
@@ -135,7 +122,7 @@ class Sim {
       if (const stripe_image_t* again = desk_.repeat_of(*req)) {
         if (again->requester != req->header.sender || again->request_id != req->request_id)
           fuzz::fail("a repeat answered with another request's image");
-        check_encodes(*again, "a repeated STRIPE_IMAGE");
+        fuzz::check_encodes(*again, "a repeated STRIPE_IMAGE");
         continue;
       }
       const int64_t give_up = now_ns_ + kSettleNs;
@@ -164,13 +151,14 @@ class Sim {
       if (frame.width != m.width || frame.height != m.height || frame.data != m.data ||
           frame.size != m.size || frame.frame_index != index)
         fuzz::fail("STRIPE_CAMERA is not the image's pixels");
-      check_encodes(frame, "STRIPE_CAMERA");
+      fuzz::check_encodes(frame, "STRIPE_CAMERA");
       const stripe_truth_t t = truth_message(world().world, 0, "", q, utime, index);
-      if (!finite(t.q, 6) || !finite(t.flange_r, 9) || !finite(t.flange_t_mm, 3) ||
-          !finite(t.camera_in_flange_r, 9) || !finite(t.projector_in_flange_t_mm, 3) ||
-          !finite(t.dh_error, 18) || !std::isfinite(t.fx_px) || !std::isfinite(t.cx_px))
+      if (!fuzz::all_finite(t.q, 6) || !fuzz::all_finite(t.flange_r, 9) ||
+          !fuzz::all_finite(t.flange_t_mm, 3) || !fuzz::all_finite(t.camera_in_flange_r, 9) ||
+          !fuzz::all_finite(t.projector_in_flange_t_mm, 3) || !fuzz::all_finite(t.dh_error, 18) ||
+          !std::isfinite(t.fx_px) || !std::isfinite(t.cx_px))
         fuzz::fail("a STRIPE_TRUTH that is not finite");
-      check_encodes(t, "STRIPE_TRUTH");
+      fuzz::check_encodes(t, "STRIPE_TRUTH");
       desk_.answered(m);
       if (desk_.requesters() > CaptureDesk::kRequestersKept)
         fuzz::fail("answers kept for more requesters than kRequestersKept");
@@ -185,14 +173,15 @@ class Sim {
     servo_.advance_to(seconds());
     if (!servo_.servo_tick()) return;
     const joint_state_t m = sim::to_joint_state(servo_.state(), kWallStartUs + now_ns_ / 1000);
-    if (!finite(m.q, 6) || !finite(m.qd, 6)) fuzz::fail("an ARM_SERVO that is not finite");
+    if (!fuzz::all_finite(m.q, 6) || !fuzz::all_finite(m.qd, 6))
+      fuzz::fail("an ARM_SERVO that is not finite");
     const arm::JointLimits& limits = world().limits;
     if (!limits.within(joints_of(m.q), 1e-6))
       fuzz::fail("ARM_SERVO joints outside the joint limits");
     for (int j = 0; j < 6; ++j)
       if (std::abs(m.qd[j]) > limits.qd_max[j] * (1.0 + 1e-6))
         fuzz::fail("ARM_SERVO joint " + std::to_string(j + 1) + " faster than its limit");
-    check_encodes(m, "ARM_SERVO");
+    fuzz::check_encodes(m, "ARM_SERVO");
   }
 
   void check_image(const stripe_image_t& m, const stripe_capture_t& req) const {
@@ -203,7 +192,7 @@ class Sim {
     if (image_of(m, &why).empty()) fuzz::fail("a STRIPE_IMAGE its readers refuse: " + why);
     if (!world().limits.within(joints_of(m.q), 1e-6))
       fuzz::fail("an image taken at joints outside the limits");
-    check_encodes(m, "STRIPE_IMAGE");
+    fuzz::check_encodes(m, "STRIPE_IMAGE");
   }
 
   SimServo servo_;
