@@ -1,5 +1,6 @@
 #include "procs/catch/track/video_input.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <vector>
 
@@ -38,6 +39,19 @@ cv::VideoCapture open_video(const std::string& path) {
 
 cv::Mat next_frame(cv::VideoCapture& capture, int index, const std::string& video_path,
                    const CameraIntrinsics& camera, const std::string& camera_path) {
+  const std::string frames_name =
+      "the frames of " + video_path + " (frame " + std::to_string(index) + ")";
+  // A video whose header declares another size is refused before a frame is
+  // decoded: 900 bytes of AVI can declare a frame of hundreds of megabytes
+  // (found by the fuzz target video_file_catch_track).
+  const double declared_w = capture.get(cv::CAP_PROP_FRAME_WIDTH);
+  const double declared_h = capture.get(cv::CAP_PROP_FRAME_HEIGHT);
+  if (declared_w > 0.0 && declared_h > 0.0 &&
+      (declared_w != camera.width || declared_h != camera.height)) {
+    const auto px = [](double v) { return static_cast<int>(std::min(v, 1e9)); };
+    throw VideoInputError(
+        frame_size_problem(camera, camera_path, px(declared_w), px(declared_h), frames_name));
+  }
   cv::Mat decoded;
   bool read = false;
   try {
@@ -49,17 +63,16 @@ cv::Mat next_frame(cv::VideoCapture& capture, int index, const std::string& vide
                           ": cannot be decoded: " + e.what());
   }
   if (!read || decoded.empty()) return {};
-  cv::Mat grey;
+  // The size before the conversion to grey, which would otherwise run over
+  // the whole of a wrong-sized frame first.
+  const std::string problem =
+      frame_size_problem(camera, camera_path, decoded.cols, decoded.rows, frames_name);
+  if (!problem.empty()) throw VideoInputError(problem);
   try {
-    grey = to_grey(decoded);
+    return to_grey(decoded);
   } catch (const std::invalid_argument& e) {
     throw VideoInputError("frame " + std::to_string(index) + " of " + video_path + ": " + e.what());
   }
-  const std::string problem =
-      frame_size_problem(camera, camera_path, grey.cols, grey.rows,
-                         "the frames of " + video_path + " (frame " + std::to_string(index) + ")");
-  if (!problem.empty()) throw VideoInputError(problem);
-  return grey;
 }
 
 BoardPoseSearch search_board_pose(
